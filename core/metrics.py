@@ -1,0 +1,36 @@
+"""Mesh quality metrics that need nothing but NumPy."""
+from __future__ import annotations
+
+import numpy as np
+
+SLIVER_QUALITY = 0.3  # q below this counts as a sliver (the bench's threshold)
+
+
+def triangle_quality(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Per-triangle shape quality q = 4*sqrt(3)*area / (sum of squared edge lengths).
+
+    vertices: (n, 3) float, faces: (m, 3) int. Returns (m,) float64 in [0, 1]:
+    1 for an equilateral triangle, 0 for a degenerate one (also for zero-length edges).
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    p0, p1, p2 = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    e0, e1, e2 = p1 - p0, p2 - p1, p0 - p2
+    double_area = np.linalg.norm(np.cross(e0, -e2), axis=1)
+    sq_sum = (e0 * e0).sum(1) + (e1 * e1).sum(1) + (e2 * e2).sum(1)
+    q = np.zeros(len(f))
+    ok = sq_sum > 0
+    q[ok] = 2.0 * np.sqrt(3.0) * double_area[ok] / sq_sum[ok]
+    return np.clip(q, 0.0, 1.0)
+
+
+def quality_summary(vertices: np.ndarray, faces: np.ndarray) -> dict:
+    """Mean and minimum triangle quality and the percentage of slivers (q < 0.3)."""
+    q = triangle_quality(vertices, faces)
+    if len(q) == 0:
+        return {"mean_quality": 0.0, "min_quality": 0.0, "sliver_percent": 0.0}
+    return {
+        "mean_quality": float(q.mean()),
+        "min_quality": float(q.min()),
+        "sliver_percent": float(100.0 * np.count_nonzero(q < SLIVER_QUALITY) / len(q)),
+    }

@@ -1,0 +1,54 @@
+"""Result and error types of :func:`core.simplify`."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+# Why a run stopped (``SimplifyStats.stop_reason``).
+STOP_TARGET = "target_reached"
+STOP_MAX_ERROR = "max_error_reached"
+STOP_NO_COLLAPSE = "no_valid_collapse"
+
+
+class SimplifyCancelled(Exception):
+    """Raised when the ``progress`` callback returns False. Nothing partial is returned."""
+
+
+@dataclass
+class SimplifyStats:
+    """Counts and timings of one run (one LOD level)."""
+
+    input_vertices: int
+    input_faces: int
+    output_vertices: int
+    output_faces: int
+    target_faces: int
+    passes: int
+    seconds: float
+    stop_reason: str
+    max_error: float = 0.0  # largest RMS quadric distance of an accepted collapse (mesh units)
+    welded_vertices: int = 0  # coincident input vertices merged before simplifying
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass
+class SimplifyResult:
+    """A simplified mesh and everything carried over from the input.
+
+    vertices: (n_out, 3) float64, faces: (m_out, 3) int64 indices into ``vertices``.
+    face_origin: (m_out,) int64, the input face every output face descends from.
+    vertex_origin: (n_out,) int64, the input vertex that survived as each output vertex.
+    vertex_attributes: {name: (n_out, k) float64}, interpolated along collapsed edges.
+    corner_attributes: {name: (m_out, 3, k) float64}, indexed like ``faces``.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    face_origin: np.ndarray
+    vertex_origin: np.ndarray
+    stats: SimplifyStats
+    vertex_attributes: dict = field(default_factory=dict)
+    corner_attributes: dict = field(default_factory=dict)
