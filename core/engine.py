@@ -1,0 +1,407 @@
+"""The collapse engine: passes of many independent edge collapses.
+
+One pass (cf. meshoptimizer's pipeline, vectorised):
+  1. connectivity  - edges and incidences of the live faces (topology.build)
+  2. classify      - boundary, seam and locked vertices; which edges may collapse
+  3. cost          - optimal position and quadric error of every candidate edge
+  4. select        - edges cheapest in their two-ring neighbourhoods (independent)
+  5. validate      - link condition, no flips, no degenerate or UV-flipped faces
+  6. apply         - relabel faces, drop the dead ones, sum quadrics, carry attributes
+Python loops run over passes only; every step is a bulk NumPy operation.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import checks, quadrics, selection, topology, validation, vertex_quadrics
+from .result import (
+    STOP_MAX_ERROR,
+    STOP_NO_COLLAPSE,
+    STOP_TARGET,
+    SimplifyCancelled,
+    SimplifyResult,
+    SimplifyStats,
+)
+from .wedges import Wedges
+from .weld import weld_map
+from .geometry import edge_parameter
+
+FREE, SEAM, LOCKED = 0, 1, 2
+
+
+@dataclass
+class Problem:
+    vertices: np.ndarray  # normalised: centred on the bounding box, unit diagonal
+    faces: np.ndarray
+    face_origin: np.ndarray
+    vertex_origin: np.ndarray
+    targets: list
+    max_error: object  # normalised units, or None
+    line_weights: np.ndarray
+    importance: object
+    boundary_weight: float
+    locked: np.ndarray
+    progress: object
+    seed: int
+    vertex_attributes: dict
+    normalize_attributes: tuple
+    corner_attributes: dict
+    uv_attributes: tuple
+    preserve_seams: bool
+    feature_edges: np.ndarray
+    feature_edge_weights: np.ndarray
+    center: np.ndarray
+    scale: float
+    input_vertices: int
+    input_faces: int
+    welded: int = 0
+    timings: dict = field(default_factory=dict)
+
+
+def validate_and_prepare(vertices, faces, targets, options) -> Problem:
+    """Check every argument (ValueError naming the problem) and clean the input."""
+    known = {
+        "max_error", "line_weight", "vertex_weights", "importance", "boundary_weight", "locked",
+        "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
+        "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
+        "weld_distance",
+    }
+    unknown = set(options) - known
+    if unknown:
+        raise ValueError(f"unknown option(s): {', '.join(sorted(unknown))}")
+    o = options
+    v = checks.as_vertices(vertices)
+    n = len(v)
+    f = checks.as_faces(faces, n)
+    m = len(f)
+    tgt = checks.targets(targets, m)
+    max_error = o.get("max_error")
+    if max_error is not None:
+        max_error = checks.non_negative(max_error, "max_error")
+    line_weight = checks.non_negative(o.get("line_weight", 1e-3), "line_weight")
+    vw = o.get("vertex_weights")
+    line_weights = np.full(n, line_weight) if vw is None else checks.per_vertex(vw, n, "vertex_weights")
+    imp = o.get("importance")
+    importance = None if imp is None else checks.per_vertex(imp, n, "importance")
+    boundary_weight = checks.non_negative(o.get("boundary_weight", 1.0), "boundary_weight")
+    lk = o.get("locked")
+    locked = np.zeros(n, dtype=bool) if lk is None else checks.per_vertex(lk, n, "locked", dtype=bool)
+    progress = o.get("progress")
+    if progress is not None and not callable(progress):
+        raise ValueError("progress must be callable (fraction) -> bool")
+    seed = o.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise ValueError(f"seed must be an integer, got {seed!r}")
+    vattrs = checks.vertex_attributes(o.get("vertex_attributes"), n)
+    normalize = tuple(o.get("normalize_attributes") or ())
+    for name in normalize:
+        if name not in vattrs:
+            raise ValueError(f"normalize_attributes names {name!r}, which is not a vertex attribute")
+    cattrs = checks.corner_attributes(o.get("corner_attributes"), m)
+    uvs = tuple(o.get("uv_attributes") or ())
+    for name in uvs:
+        if name not in cattrs or cattrs[name].shape[2] != 2:
+            raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
+    fe = checks.edge_list(o.get("feature_edges") if o.get("feature_edges") is not None else [], n, "feature_edges")
+    ew = o.get("edge_weights")
+    if ew is None:
+        few = np.full(len(fe), checks.non_negative(o.get("feature_weight", 1.0), "feature_weight"))
+    else:
+        few = np.asarray(ew, dtype=np.float64)
+        if few.shape != (len(fe),):
+            raise ValueError(f"edge_weights must have one value per feature edge ({len(fe)}), got shape {few.shape}")
+        if not np.isfinite(few).all() or (few < 0).any():
+            raise ValueError("edge_weights must be finite and >= 0")
+    weld_distance = o.get("weld_distance")
+    if weld_distance is not None:
+        weld_distance = float(weld_distance)
+
+    # Normalise positions: quadric sums of large coordinates lose precision to cancellation.
+    if n:
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        center = 0.5 * (lo + hi)
+        scale = float(np.linalg.norm(hi - lo)) or 1.0
+    else:
+        center, scale = np.zeros(3), 1.0
+    vn = (v - center) / scale
+    if max_error is not None:
+        max_error = max_error / scale
+
+    # Weld coincident vertices (exported assets), then drop faces that became degenerate
+    # or duplicate: they cannot be simplified and would break the manifold checks.
+    rep = weld_map(vn, None if weld_distance is None else (weld_distance / scale if weld_distance > 0 else weld_distance))
+    welded = int(np.count_nonzero(rep != np.arange(n)))
+    fw = rep[f] if m else f
+    keep = (fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 0] != fw[:, 2])
+    sorted_f = np.sort(fw, axis=1)
+    keys = (sorted_f[:, 0] * n + sorted_f[:, 1]) * n + sorted_f[:, 2] if n < 2_000_000 else None
+    if keys is not None and m:
+        _, first = np.unique(np.where(keep, keys, -1), return_index=True)
+        unique_mask = np.zeros(m, dtype=bool)
+        unique_mask[first] = True
+        keep &= unique_mask
+    elif m:
+        _, first = np.unique(sorted_f, axis=0, return_index=True)
+        unique_mask = np.zeros(m, dtype=bool)
+        unique_mask[first] = True
+        keep &= unique_mask
+    face_origin = np.flatnonzero(keep)
+    # Welded vertices pool their locks, weights and importance: the strongest wins.
+    if welded:
+        locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
+        line_weights = _max_by_group(line_weights, rep, n)
+        if importance is not None:
+            importance = _max_by_group(importance, rep, n)
+
+    return Problem(
+        vertices=vn,
+        faces=fw[keep],
+        face_origin=face_origin,
+        vertex_origin=np.arange(n),
+        targets=tgt,
+        max_error=max_error,
+        line_weights=line_weights,
+        importance=importance,
+        boundary_weight=boundary_weight,
+        locked=locked,
+        progress=progress,
+        seed=int(seed),
+        vertex_attributes=vattrs,
+        normalize_attributes=normalize,
+        corner_attributes={k: a[keep] for k, a in cattrs.items()},
+        uv_attributes=uvs,
+        preserve_seams=bool(o.get("preserve_seams", True)),
+        feature_edges=rep[fe] if len(fe) else fe,
+        feature_edge_weights=few,
+        center=center,
+        scale=scale,
+        input_vertices=n,
+        input_faces=m,
+        welded=welded,
+    )
+
+
+def _max_by_group(values, rep, n):
+    out = np.zeros(n)
+    order = np.argsort(values, kind="stable")
+    out[rep[order]] = values[order]  # ascending writes: the largest lands last
+    return out[rep]
+
+
+@dataclass
+class State:
+    """The mesh while it is being simplified. Vertex rows are never compacted during
+    the run (removed vertices simply stop being referenced), so edge keys, stamps and
+    the remembered rejections stay valid from pass to pass."""
+
+    V: np.ndarray
+    Q: np.ndarray
+    area: np.ndarray
+    F: np.ndarray
+    face_origin: np.ndarray
+    locked: np.ndarray
+    X: np.ndarray  # stacked vertex attributes (n, K)
+    wedges: object
+    touched: np.ndarray  # pass in which each vertex's neighbourhood last changed
+    rejected_keys: np.ndarray
+    rejected_pass: np.ndarray
+    area_scale: float = 1.0
+    max_error_seen: float = 0.0
+
+
+def run(p: Problem) -> list:
+    t_start = time.perf_counter()
+    n = len(p.vertices)
+    F = p.faces
+    conn = topology.build(F, n)
+    Q, area = vertex_quadrics.build(
+        p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
+        p.feature_edges, p.feature_edge_weights,
+    )
+    # Vertices on non-manifold edges, or pinched (several fans), are left alone.
+    locked = p.locked | _non_manifold_vertices(conn, F, n)
+    names = list(p.vertex_attributes)
+    X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
+    wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
+    s = State(
+        V=p.vertices.copy(), Q=Q, area=area, F=F, face_origin=p.face_origin, locked=locked,
+        X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
+        rejected_keys=np.zeros(0, dtype=np.int64), rejected_pass=np.zeros(0, dtype=np.int64),
+    )
+    s.area_scale = float(area.mean()) if n else 1.0
+    max_error_sq = None if p.max_error is None else p.max_error ** 2
+    rng = np.random.default_rng(p.seed) if p.seed else None
+
+    results = []
+    start_faces = len(F)
+    final_target = p.targets[-1]
+    passes = 0
+    stop = STOP_TARGET
+    level = 0
+    while level < len(p.targets):
+        target = p.targets[level]
+        if len(s.F) <= target + 0 or stop != STOP_TARGET:
+            results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
+            level += 1
+            continue
+        passes += 1
+        outcome = _one_pass(s, passes, target, max_error_sq, rng, p.preserve_seams)
+        if outcome is not None:
+            stop = outcome
+        if p.progress is not None:
+            done = (start_faces - len(s.F)) / max(start_faces - final_target, 1)
+            if p.progress(min(max(done, 0.0), 1.0)) is False:
+                raise SimplifyCancelled("simplification cancelled")
+    return results
+
+
+def _one_pass(s: State, pass_no: int, target: int, max_error_sq, rng, preserve_seams):
+    """One pass; returns a stop reason when nothing more can be collapsed, else None."""
+    n = len(s.V)
+    conn = topology.build(s.F, n)
+    kind = _classify(s, conn, n, preserve_seams)
+    cand = selection.candidates(s, conn, kind, pass_no)
+    if len(cand.edge) == 0:
+        return STOP_NO_COLLAPSE
+    if max_error_sq is not None:
+        within = cand.cost <= max_error_sq * (s.area[cand.keep] + s.area[cand.remove])
+        if not within.any():
+            return STOP_MAX_ERROR
+        cand = cand.subset(within)
+    chosen = selection.independent_set(cand, conn, s.F, n, rng)
+    ok = validation.valid_collapses(s, conn, cand, chosen)
+    _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
+    chosen = chosen[ok]
+    # Stop exactly at the target: only the cheapest collapses the target still needs.
+    need = len(s.F) - target
+    removed = conn.edge_faces[cand.edge[chosen]]
+    if removed.sum() > need:
+        order = np.argsort(cand.cost[chosen], kind="stable")
+        chosen = chosen[order]
+        upto = int(np.searchsorted(np.cumsum(conn.edge_faces[cand.edge[chosen]]), need, side="left")) + 1
+        chosen = chosen[:upto]
+    if len(chosen):
+        err = cand.cost[chosen] / np.maximum(s.area[cand.keep[chosen]] + s.area[cand.remove[chosen]], 1e-300)
+        s.max_error_seen = max(s.max_error_seen, float(np.sqrt(err.max())))
+        _apply(s, conn, cand, chosen, pass_no)
+    return None
+
+
+def _non_manifold_vertices(conn, F, n) -> np.ndarray:
+    bad = np.zeros(n, dtype=bool)
+    bad[conn.edges[conn.edge_faces > 2].ravel()] = True
+    # A manifold vertex has as many edges as faces (interior) or one more (on a border,
+    # with exactly two border edges); anything else is a pinch of several fans.
+    edge_count = np.bincount(conn.edges.ravel(), minlength=n)
+    face_count = np.bincount(F.ravel(), minlength=n)
+    border_count = np.bincount(conn.edges[conn.edge_faces == 1].ravel(), minlength=n)
+    used = face_count > 0
+    fans = edge_count - face_count
+    bad |= used & ~(((fans == 0) & (border_count == 0)) | ((fans == 1) & (border_count == 2)))
+    return bad
+
+
+def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
+    """FREE, SEAM (moves only along its seam) or LOCKED for every vertex."""
+    kind = np.where(s.locked, LOCKED, FREE).astype(np.int8)
+    if s.wedges is not None and preserve_seams:
+        seam_edge = s.wedges.seam_edges(conn)
+        seam_count = np.bincount(conn.edges[seam_edge].ravel(), minlength=n)
+        on_seam = seam_count > 0
+        kind[on_seam & (kind == FREE)] = SEAM
+        # Seam ends and junctions stay put so the seam keeps its shape and its corners.
+        kind[on_seam & (seam_count != 2)] = LOCKED
+        conn.seam_edge = seam_edge
+    else:
+        conn.seam_edge = np.zeros(len(conn.edges), dtype=bool)
+    return kind
+
+
+def _remember_rejections(s: State, conn, cand, rejected, pass_no):
+    """Invalid collapses are skipped until their neighbourhood changes, so one bad edge
+    does not block its neighbourhood pass after pass."""
+    if len(rejected) == 0:
+        return
+    keys = conn.edge_keys[cand.edge[rejected]]
+    keys = np.concatenate([s.rejected_keys, keys])
+    passes = np.concatenate([s.rejected_pass, np.full(len(rejected), pass_no)])
+    order = np.argsort(keys, kind="stable")
+    keys, passes = keys[order], passes[order]
+    last = np.append(keys[1:] != keys[:-1], True)  # keep the latest pass per key
+    s.rejected_keys, s.rejected_pass = keys[last], passes[last]
+
+
+def _apply(s: State, conn, cand, chosen, pass_no):
+    keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
+    t = edge_parameter(s.V[keep], s.V[remove], pos)
+    if s.X.shape[1]:
+        s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
+    if s.wedges is not None:
+        s.wedges.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
+    s.V[keep] = pos
+    s.Q[keep] += s.Q[remove]
+    s.area[keep] += s.area[remove]
+    remap = np.arange(len(s.V))
+    remap[remove] = keep
+    F = remap[s.F]
+    alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
+    s.F = F[alive]
+    s.face_origin = s.face_origin[alive]
+    if s.wedges is not None:
+        s.wedges.keep_faces(alive)
+    is_keep = np.zeros(len(s.V), dtype=bool)
+    is_keep[keep] = True
+    around = is_keep[s.F].any(axis=1)
+    s.touched[s.F[around].ravel()] = pass_no
+
+
+def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:
+    """Compact copy of the current mesh in input units, as one LOD level."""
+    used = np.zeros(len(s.V), dtype=bool)
+    used[s.F.ravel()] = True
+    new_index = np.cumsum(used) - 1
+    vertices = s.V[used] * p.scale + p.center
+    faces = new_index[s.F]
+    vattrs = {}
+    col = 0
+    for name in names:
+        k = p.vertex_attributes[name].shape[1]
+        vals = s.X[used, col:col + k].copy()
+        col += k
+        if name in p.normalize_attributes:
+            vals = _renormalise(vals, p.vertex_attributes[name][p.vertex_origin[used]])
+        vattrs[name] = vals
+    cattrs = s.wedges.corner_values() if s.wedges is not None else {}
+    stats = SimplifyStats(
+        input_vertices=p.input_vertices,
+        input_faces=p.input_faces,
+        output_vertices=int(used.sum()),
+        output_faces=len(faces),
+        target_faces=target,
+        passes=passes,
+        seconds=seconds,
+        stop_reason=stop if len(s.F) > target else STOP_TARGET,
+        max_error=s.max_error_seen * p.scale,
+        welded_vertices=p.welded,
+    )
+    return SimplifyResult(
+        vertices=vertices,
+        faces=faces,
+        face_origin=s.face_origin.copy(),
+        vertex_origin=p.vertex_origin[used],
+        stats=stats,
+        vertex_attributes=vattrs,
+        corner_attributes=cattrs,
+    )
+
+
+def _renormalise(values, original_rows):
+    """Rows whose input summed to one (skin weights) sum to one again, exactly."""
+    sums = values.sum(axis=1)
+    was_unit = np.abs(original_rows.sum(axis=1) - 1.0) < 1e-6
+    fix = was_unit & (sums > 0)
+    values[fix] /= sums[fix, None]
+    return values

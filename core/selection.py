@@ -1,0 +1,104 @@
+"""Steps 2-4 of a pass: which edges may collapse, at what cost, and which of them can
+collapse together in one pass."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import quadrics, topology
+
+FREE, SEAM, LOCKED = 0, 1, 2
+_NO_RANK = np.iinfo(np.int64).max
+
+
+@dataclass
+class Candidates:
+    """Collapsible edges: ``edge`` indexes conn.edges; ``remove`` merges into ``keep``,
+    which moves to ``position`` at quadric error ``cost``."""
+
+    edge: np.ndarray
+    keep: np.ndarray
+    remove: np.ndarray
+    position: np.ndarray
+    cost: np.ndarray
+
+    def subset(self, mask) -> "Candidates":
+        return Candidates(self.edge[mask], self.keep[mask], self.remove[mask], self.position[mask], self.cost[mask])
+
+
+def candidates(s, conn, kind, pass_no) -> Candidates:
+    """Every edge allowed to collapse now, with its optimal position and cost."""
+    n = len(s.V)
+    a, b = conn.edges[:, 0], conn.edges[:, 1]
+    faces_on_edge = conn.edge_faces
+    on_border = np.zeros(n, dtype=bool)
+    on_border[conn.edges[faces_on_edge == 1].ravel()] = True
+
+    ka, kb = kind[a], kind[b]
+    swap = kb > ka  # the more constrained end survives
+    keep = np.where(swap, b, a)
+    remove = np.where(swap, a, b)
+    k_keep = np.maximum(ka, kb)
+    k_remove = np.minimum(ka, kb)
+
+    ok = (faces_on_edge == 1) | (faces_on_edge == 2)  # non-manifold edges stay
+    ok &= k_remove != LOCKED
+    # Boundaries stay boundaries: an inner edge joining two border vertices would pinch.
+    ok &= ~((faces_on_edge == 2) & on_border[a] & on_border[b])
+    # Two constrained ends may only slide along the seam that joins them.
+    ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
+    ok &= ~_still_rejected(s, conn, a, b)
+
+    idx = np.flatnonzero(ok)
+    keep, remove = keep[idx], remove[idx]
+    k_keep, k_remove = k_keep[idx], k_remove[idx]
+    q = s.Q[keep] + s.Q[remove]
+    v_keep, v_remove = s.V[keep], s.V[remove]
+
+    midpoint = 0.5 * (v_keep + v_remove)
+    position = quadrics.minimize(q, midpoint, s.area_scale)
+    fixed = (k_keep == LOCKED) | ((k_keep == SEAM) & (k_remove == FREE))
+    position[fixed] = v_keep[fixed]
+    along_seam = (k_keep == SEAM) & (k_remove == SEAM)
+    if along_seam.any():
+        position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
+    cost = quadrics.evaluate(q, position)
+    return Candidates(idx, keep, remove, position, cost)
+
+
+def _still_rejected(s, conn, a, b) -> np.ndarray:
+    """Edges found invalid in an earlier pass whose neighbourhood has not changed since."""
+    if len(s.rejected_keys) == 0:
+        return np.zeros(len(a), dtype=bool)
+    pos = np.searchsorted(s.rejected_keys, conn.edge_keys)
+    pos = np.minimum(pos, len(s.rejected_keys) - 1)
+    found = s.rejected_keys[pos] == conn.edge_keys
+    last_change = np.maximum(s.touched[a], s.touched[b])
+    return found & (last_change < s.rejected_pass[pos])
+
+
+def independent_set(cand: Candidates, conn, F, n, rng) -> np.ndarray:
+    """Indices into ``cand`` of edges cheapest among all candidate edges touching the
+    faces around both their ends.
+
+    Two chosen edges then never share a face, nor do their one-rings overlap in a way
+    that lets one collapse invalidate another's checks, so a whole pass can be validated
+    and applied at once; taking local minima approximates the greedy cheapest-first order.
+    """
+    k = len(cand.edge)
+    if rng is None:
+        order = np.argsort(cand.cost)
+    else:  # the seed decides between equal costs
+        perm = rng.permutation(k)
+        order = perm[np.argsort(cand.cost[perm])]
+    rank = np.full(len(conn.edges), _NO_RANK, dtype=np.int64)
+    rank[cand.edge[order]] = np.arange(k)
+    side_rank = rank[conn.face_edges]
+    # Corner s of a face starts side s and ends side s-1: both are edges at its vertex.
+    corner_min = np.minimum(side_rank, side_rank[:, [2, 0, 1]]).ravel()
+    cheapest_at_vertex = topology.min_per_vertex(conn, corner_min, n, _NO_RANK)
+    cheapest_near_face = cheapest_at_vertex[F].min(axis=1)
+    cheapest_in_ring = topology.min_per_vertex(conn, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
+    mine = rank[cand.edge]
+    return np.flatnonzero((mine == cheapest_in_ring[cand.keep]) & (mine == cheapest_in_ring[cand.remove]))

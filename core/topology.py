@@ -1,0 +1,127 @@
+"""Connectivity of a triangle soup, rebuilt in bulk once per pass.
+
+Edges are found by sorting half-edge keys (lo * n + hi) rather than by walking a
+half-edge structure: sorting is one vectorised call, and a pass changes too much of the
+mesh for incremental bookkeeping in Python to pay off.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Connectivity:
+    """Edges and incidences of the live faces.
+
+    edges: (k, 2) int64 with edges[:, 0] < edges[:, 1]; edge_faces: (k,) number of faces
+    on each edge (1 boundary, 2 interior, more non-manifold); face_edges: (m, 3) the edge
+    of each face side (side s joins corners s and s+1); edge_first_face / edge_second_face
+    and their opposite corners' vertices (-1 where missing); corner_order / corner_start:
+    the corners (flat indices f*3+s) grouped by vertex, for per-vertex reductions.
+    """
+
+    edges: np.ndarray
+    edge_keys: np.ndarray
+    edge_faces: np.ndarray
+    face_edges: np.ndarray
+    edge_face0: np.ndarray
+    edge_face1: np.ndarray
+    edge_opposite0: np.ndarray
+    edge_opposite1: np.ndarray
+    edge_he0: np.ndarray  # a half-edge (flat corner index f*3+s) of each edge
+    edge_he1: np.ndarray  # the other half-edge of an interior edge, else -1
+    corner_order: np.ndarray
+    corner_start: np.ndarray
+    corner_vertices: np.ndarray  # the vertex of each group in corner_start (sorted)
+
+
+def build(faces: np.ndarray, n_vertices: int) -> Connectivity:
+    m = len(faces)
+    a = faces.ravel()
+    b = faces[:, [1, 2, 0]].ravel()
+    lo = np.minimum(a, b)
+    hi = np.maximum(a, b)
+    keys = lo * np.int64(n_vertices) + hi
+    order = np.argsort(keys)
+    sorted_keys = keys[order]
+    new_group = np.empty(len(sorted_keys), dtype=bool)
+    new_group[:1] = True
+    np.not_equal(sorted_keys[1:], sorted_keys[:-1], out=new_group[1:])
+    group_start = np.flatnonzero(new_group)
+    edge_faces = np.diff(np.append(group_start, len(sorted_keys)))
+    edge_keys = sorted_keys[group_start]
+    edges = np.stack([edge_keys // n_vertices, edge_keys % n_vertices], axis=1)
+
+    he_edge = np.empty(3 * m, dtype=np.int64)
+    he_edge[order] = np.cumsum(new_group) - 1
+    first_he = order[group_start]
+    # The second half-edge of a group, where there is one (interior or non-manifold edge).
+    has_second = edge_faces >= 2
+    second_he = np.full(len(group_start), -1, dtype=np.int64)
+    second_he[has_second] = order[group_start[has_second] + 1]
+
+    flat_faces = faces.ravel()
+    opp0 = flat_faces[(first_he // 3) * 3 + (first_he % 3 + 2) % 3]
+    opp1 = np.full(len(group_start), -1, dtype=np.int64)
+    s = second_he[has_second]
+    opp1[has_second] = flat_faces[(s // 3) * 3 + (s % 3 + 2) % 3]
+    face1 = np.full(len(group_start), -1, dtype=np.int64)
+    face1[has_second] = s // 3
+
+    corner_order = np.argsort(flat_faces, kind="stable")
+    sorted_vertices = flat_faces[corner_order]
+    starts_mask = np.empty(len(sorted_vertices), dtype=bool)
+    starts_mask[:1] = True
+    np.not_equal(sorted_vertices[1:], sorted_vertices[:-1], out=starts_mask[1:])
+    corner_start = np.flatnonzero(starts_mask)
+
+    return Connectivity(
+        edges=edges,
+        edge_keys=edge_keys,
+        edge_faces=edge_faces,
+        face_edges=he_edge.reshape(m, 3),
+        edge_face0=first_he // 3,
+        edge_face1=face1,
+        edge_opposite0=opp0,
+        edge_opposite1=opp1,
+        edge_he0=first_he,
+        edge_he1=second_he,
+        corner_order=corner_order,
+        corner_start=corner_start,
+        corner_vertices=sorted_vertices[corner_start],
+    )
+
+
+def min_per_vertex(conn: Connectivity, corner_values: np.ndarray, n_vertices: int, fill) -> np.ndarray:
+    """Minimum of a per-corner value (3m,) over each vertex's corners; ``fill`` where none."""
+    out = np.full(n_vertices, fill, dtype=corner_values.dtype)
+    if len(conn.corner_order):
+        out[conn.corner_vertices] = np.minimum.reduceat(corner_values[conn.corner_order], conn.corner_start)
+    return out
+
+
+def vertex_degrees(conn: Connectivity, n_vertices: int) -> np.ndarray:
+    """Number of distinct edges at each vertex."""
+    return np.bincount(conn.edges.ravel(), minlength=n_vertices)
+
+
+def next_corner(corner: np.ndarray) -> np.ndarray:
+    """The corner after ``corner`` (flat f*3+s) in its face: where its half-edge ends."""
+    return corner - corner % 3 + (corner % 3 + 1) % 3
+
+
+def gather_vertex_corners(conn: Connectivity, vertices: np.ndarray, n_vertices: int) -> tuple:
+    """All corners of each of ``vertices`` (k,). Returns (owner (c,), corners (c,)):
+    owner[i] is the position in ``vertices`` whose corner corners[i] is."""
+    group_of = np.full(n_vertices, -1, dtype=np.int64)
+    group_of[conn.corner_vertices] = np.arange(len(conn.corner_vertices))
+    g = group_of[vertices]
+    has = g >= 0
+    ends = np.append(conn.corner_start, len(conn.corner_order))
+    starts = np.where(has, conn.corner_start[np.maximum(g, 0)], 0)
+    counts = np.where(has, ends[np.maximum(g, 0) + 1] - starts, 0)
+    owner = np.repeat(np.arange(len(vertices)), counts)
+    offsets = np.arange(len(owner)) - np.repeat(np.cumsum(counts) - counts, counts)
+    return owner, conn.corner_order[np.repeat(starts, counts) + offsets]

@@ -1,0 +1,70 @@
+"""Step 5 of a pass: reject collapses that would break the mesh.
+
+Checked in bulk over the corners around both ends of every chosen edge:
+- link condition (manifold in, manifold out): the ends share exactly the neighbours
+  opposite the edge, and a closed tetrahedron is never collapsed;
+- no face turns over (new.old normal below MIN_NORMAL_COSINE) or collapses to zero area;
+- no UV triangle flips (delegated to the wedges, when corner data is carried).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import topology
+
+MIN_NORMAL_COSINE = 0.2
+MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
+
+
+def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
+    """(len(chosen),) bool: which chosen collapses are safe to apply."""
+    c = len(chosen)
+    if c == 0:
+        return np.zeros(0, dtype=bool)
+    n = len(s.V)
+    keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
+    owner, corners = topology.gather_vertex_corners(conn, np.concatenate([keep, remove]), n)
+    from_keep = owner < c
+    collapse = np.where(from_keep, owner, owner - c)
+    faces = corners // 3
+    fv = s.F[faces]
+    k = keep[collapse][:, None]
+    r = remove[collapse][:, None]
+    is_k = fv == k
+    is_r = fv == r
+    dying = is_k.any(axis=1) & is_r.any(axis=1)
+
+    ok = _link_condition(conn, cand.edge[chosen], fv, corners % 3, from_keep, collapse, keep, remove, c, n)
+
+    # Normals before and after moving the ends to the new position.
+    p_old = s.V[fv]
+    p_new = np.where((is_k | is_r)[:, :, None], pos[collapse][:, None, :], p_old)
+    n_old = np.cross(p_old[:, 1] - p_old[:, 0], p_old[:, 2] - p_old[:, 0])
+    n_new = np.cross(p_new[:, 1] - p_new[:, 0], p_new[:, 2] - p_new[:, 0])
+    len_old = np.linalg.norm(n_old, axis=1)
+    len_new = np.linalg.norm(n_new, axis=1)
+    dot = np.einsum("ij,ij->i", n_old, n_new)
+    bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    ok &= np.bincount(collapse[bad], minlength=c) == 0
+
+    if s.wedges is not None:
+        ok &= s.wedges.valid_uv(s.F, conn, cand.edge[chosen], keep, remove, pos, s.V, faces, collapse, dying, c)
+    return ok
+
+
+def _link_condition(conn, edges, fv, slot, from_keep, collapse, keep, remove, c, n) -> np.ndarray:
+    rows = np.arange(len(fv))
+    nb = np.stack([fv[rows, (slot + 1) % 3], fv[rows, (slot + 2) % 3]], axis=1)
+    key = collapse[:, None] * np.int64(n) + nb
+    other_end = np.where(from_keep, remove[collapse], keep[collapse])[:, None]
+    useful = nb != other_end
+    keys_keep = np.unique(key[from_keep[:, None] & useful])
+    keys_remove = np.unique(key[~from_keep[:, None] & useful])
+    common = np.intersect1d(keys_keep, keys_remove, assume_unique=True)
+    shared = np.bincount(common // n, minlength=c)
+    ok = shared == conn.edge_faces[edges]
+    # Both ends of degree three around an inner edge: a closed tetrahedron would fold flat.
+    degree_keep = np.bincount(keys_keep // n, minlength=c) + 1
+    degree_remove = np.bincount(keys_remove // n, minlength=c) + 1
+    ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
+    return ok

@@ -1,0 +1,121 @@
+"""Corner data (UVs, corner colours) carried through collapses as wedges.
+
+A wedge is one distinct value of the corner data at one vertex: a vertex inside a UV
+island has one wedge, a vertex on a seam has one per side. Faces point at wedges, so a
+collapse only has to pair each side's wedge of the removed vertex with the same side's
+wedge of the kept vertex (found in the faces on the collapsed edge, one per side),
+interpolate the pair and relabel - both sides of a seam move together, each keeping its
+own values. An edge is a seam where the wedges on its two faces differ.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import topology
+from .geometry import edge_parameter
+
+MIN_UV_DOUBLE_AREA = 1e-18
+
+
+class Wedges:
+    def __init__(self, values, corner_wedge, layout, uv_columns):
+        self.values = values  # (w, K) all corner attributes side by side
+        self.corner_wedge = corner_wedge  # (m, 3) wedge of each face corner
+        self.layout = layout  # {name: (first column, width)}
+        self.uv_columns = uv_columns  # first column of each UV attribute
+
+    @classmethod
+    def build(cls, faces, corner_attributes: dict, uv_names) -> "Wedges":
+        m = len(faces)
+        layout, blocks, col = {}, [], 0
+        for name, a in corner_attributes.items():
+            layout[name] = (col, a.shape[2])
+            blocks.append(a.reshape(3 * m, a.shape[2]))
+            col += a.shape[2]
+        rows = np.concatenate([faces.reshape(-1, 1).astype(np.float64)] + blocks, axis=1)
+        unique_rows, inverse = np.unique(rows, axis=0, return_inverse=True)
+        return cls(
+            values=np.ascontiguousarray(unique_rows[:, 1:]),
+            corner_wedge=inverse.reshape(m, 3).astype(np.int64),
+            layout=layout,
+            uv_columns=[layout[name][0] for name in uv_names],
+        )
+
+    def seam_edges(self, conn) -> np.ndarray:
+        """(k,) bool: interior edges whose two faces see different wedges at an end."""
+        cw = self.corner_wedge.ravel()
+        he0 = conn.edge_he0
+        inner = conn.edge_he1 >= 0
+        he1 = np.where(inner, conn.edge_he1, he0)
+        a0, b0 = cw[he0], cw[topology.next_corner(he0)]
+        a1, b1 = cw[he1], cw[topology.next_corner(he1)]
+        same = (np.minimum(a0, b0) == np.minimum(a1, b1)) & (np.maximum(a0, b0) == np.maximum(a1, b1))
+        return inner & ~same
+
+    def _pairs(self, faces, conn, edges, keep, remove, t):
+        """Per side of each collapsed edge: (kept wedge, removed wedge, t)."""
+        flat = faces.ravel()
+        cw = self.corner_wedge.ravel()
+        he = np.concatenate([conn.edge_he0[edges], conn.edge_he1[edges]])
+        k = np.concatenate([keep, keep])
+        tt = np.concatenate([t, t])
+        idx = np.concatenate([np.arange(len(edges))] * 2)
+        real = he >= 0
+        he, k, tt, idx = he[real], k[real], tt[real], idx[real]
+        nxt = topology.next_corner(he)
+        starts_at_keep = flat[he] == k
+        corner_keep = np.where(starts_at_keep, he, nxt)
+        corner_remove = np.where(starts_at_keep, nxt, he)
+        return cw[corner_keep], cw[corner_remove], tt, idx
+
+    def _interpolated(self, wk, wr, t):
+        vk = self.values[wk]
+        return vk + t[:, None] * (self.values[wr] - vk)
+
+    def collapse(self, faces, conn, edges, keep, remove, t):
+        """Apply collapses (before faces are relabelled): interpolate and relabel wedges."""
+        wk, wr, tt, _ = self._pairs(faces, conn, edges, keep, remove, t)
+        new_values = self._interpolated(wk, wr, tt)
+        self.values[wk] = new_values
+        remap = np.arange(len(self.values))
+        remap[wr] = wk
+        self.corner_wedge = remap[self.corner_wedge]
+
+    def keep_faces(self, alive):
+        self.corner_wedge = self.corner_wedge[alive]
+
+    def corner_values(self) -> dict:
+        """{name: (m, 3, k)} for the current faces."""
+        v = self.values[self.corner_wedge]
+        return {name: v[:, :, c:c + w].copy() for name, (c, w) in self.layout.items()}
+
+    def valid_uv(self, faces, conn, edges, keep, remove, pos, V, around_faces, collapse, dying, c):
+        """(c,) bool: collapses that leave every UV triangle around them unflipped."""
+        ok = np.ones(c, dtype=bool)
+        if not self.uv_columns:
+            return ok
+        t = edge_parameter(V[keep], V[remove], pos)
+        wk, wr, tt, _ = self._pairs(faces, conn, edges, keep, remove, t)
+        proposed = self._interpolated(wk, wr, tt)
+        remap = np.arange(len(self.values))
+        remap[wr] = wk
+        slot = np.full(len(self.values), -1, dtype=np.int64)
+        slot[wk] = np.arange(len(wk))
+        before = self.corner_wedge[around_faces]
+        after = remap[before]
+        j = slot[after]
+        for col in self.uv_columns:
+            uv_old = self.values[before][:, :, col:col + 2]
+            uv_new = np.where((j >= 0)[:, :, None], proposed[np.maximum(j, 0)][:, :, col:col + 2], self.values[after][:, :, col:col + 2])
+            a_old = _signed_double_area(uv_old)
+            a_new = _signed_double_area(uv_new)
+            flipped = (np.abs(a_old) > MIN_UV_DOUBLE_AREA) & ((a_old * a_new <= 0) | (np.abs(a_new) <= MIN_UV_DOUBLE_AREA))
+            bad = ~dying & flipped
+            ok &= np.bincount(collapse[bad], minlength=c) == 0
+        return ok
+
+
+def _signed_double_area(uv):
+    d1 = uv[:, 1] - uv[:, 0]
+    d2 = uv[:, 2] - uv[:, 0]
+    return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
