@@ -1,0 +1,228 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Surface deviation between two triangle meshes, and the LOD report built on it.
+
+Shared by the benchmarks (bench/), the add-on's report panel and the command line.
+
+Method (what the numbers mean):
+  * Each surface is sampled with area-uniform random points (NumPy, vectorised), and its
+    vertices (those used by a face) are added to the points of that surface.
+  * For every point the exact closest point on the *other* surface is found with
+    ``mathutils.bvhtree.BVHTree.find_nearest`` (exact point-to-triangle distance; Blender
+    stores the tree in single precision, so distances carry ~1e-7 relative error).
+  * One direction A->B: Hausdorff = the largest distance over A's samples and vertices;
+    mean = the mean distance over A's area-uniform samples only (an unbiased estimate of
+    the area-weighted mean distance; vertices are left out of the mean because they are
+    denser where triangles are small and would bias it).
+  * Two-sided: ``hausdorff`` = max of both directions, ``mean`` = average of both
+    directional means. Both are given in mesh units and in percent of the bounding-box
+    diagonal of the *input* (``src``) mesh.
+
+The random points of a surface depend only on ``seed`` and that surface's own arrays, not
+on whether it is passed as src or dst, so swapping the two meshes gives exactly the same
+absolute distances (only the *_percent values change, their diagonal is src's).
+
+Speed: the BVH queries are one Python call per point. Two things keep that cheap: the
+loop is a bare list comprehension over a prebuilt tree, and each query is bounded by a
+search radius taken from an unbounded pilot on a subset (a bounded query prunes most of
+the tree); points with nothing inside the radius are queried again without a bound, so
+the result is still exact. Measured on this machine (2 cores, bpy 4.5), ogre.obj
+(62k vertices, 124k faces) against its 10% LOD with the default 200,000 samples per
+surface: about 1 s per direction (see bench/README.md for the command).
+
+``mathutils`` is imported inside the functions so this module can be imported without
+Blender (documentation, type checks); only calling it needs bpy's mathutils.
+"""
+from __future__ import annotations
+
+import time
+import zlib
+
+import numpy as np
+
+DEFAULT_SAMPLES = 500_000  # area-uniform samples per surface (vertices come on top)
+
+# The pilot that sets the search radius: this many unbounded queries at most, and the
+# radius is this multiple of the pilot's high quantile. Both only affect speed.
+_PILOT_POINTS = 2000
+_PILOT_QUANTILE = 0.99
+_RADIUS_FACTOR = 2.0
+
+
+def _as_mesh(vertices, faces, what: str):
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(f"{what} vertices must be an (n, 3) array, got shape {v.shape}")
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError(f"{what} faces must be an (m, 3) array of triangles, got shape {f.shape}")
+    if len(f) == 0:
+        raise ValueError(f"{what} mesh has no faces: there is no surface to measure")
+    if not np.issubdtype(f.dtype, np.integer):
+        raise ValueError(f"{what} faces must be integer indices, got dtype {f.dtype}")
+    f = f.astype(np.int64, copy=False)
+    if f.min() < 0 or f.max() >= len(v):
+        raise ValueError(f"{what} faces index vertices outside 0..{len(v) - 1}")
+    if not np.isfinite(v).all():
+        raise ValueError(f"{what} vertices contain NaN or infinite coordinates")
+    return v, f
+
+
+def _surface_rng(seed: int, v: np.ndarray, f: np.ndarray) -> np.random.Generator:
+    # Seeded by the surface's own content, so its samples are the same whichever side
+    # of the comparison it is on (makes the two-sided measure exactly symmetric).
+    key = zlib.crc32(np.ascontiguousarray(f).view(np.uint8))
+    key = zlib.crc32(np.ascontiguousarray(v).view(np.uint8), key)
+    return np.random.default_rng([int(seed) & 0xFFFFFFFF, key])
+
+
+def _triangle_areas(v: np.ndarray, f: np.ndarray) -> np.ndarray:
+    p0 = v[f[:, 0]]
+    return 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - p0, v[f[:, 2]] - p0), axis=1)
+
+
+def sample_surface(vertices, faces, n: int, rng: np.random.Generator) -> np.ndarray:
+    """``n`` points distributed uniformly by area over the triangles, (n, 3) float64."""
+    v, f = np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
+    area = _triangle_areas(v, f)
+    cdf = np.cumsum(area)
+    if n <= 0 or cdf[-1] <= 0.0:
+        return np.empty((0, 3))
+    # searchsorted on the area CDF picks a face with probability area/total; the
+    # "right" side never selects a zero-area face.
+    tri = np.searchsorted(cdf, rng.random(n) * cdf[-1], side="right")
+    np.minimum(tri, len(f) - 1, out=tri)
+    r1 = np.sqrt(rng.random(n))
+    r2 = rng.random(n)
+    a, b, c = v[f[tri, 0]], v[f[tri, 1]], v[f[tri, 2]]
+    # Osada et al. 2002: uniform on the triangle.
+    return (1.0 - r1)[:, None] * a + (r1 * (1.0 - r2))[:, None] * b + (r1 * r2)[:, None] * c
+
+
+def _build_tree(v: np.ndarray, f: np.ndarray):
+    from mathutils.bvhtree import BVHTree
+
+    return BVHTree.FromPolygons(v.tolist(), f.tolist(), all_triangles=True)
+
+
+def _distances(tree, points: np.ndarray) -> np.ndarray:
+    """Exact distance from each point to the surface in ``tree``, (k,) float64."""
+    if len(points) == 0:
+        return np.empty(0)
+    # Tuples parse faster than lists in mathutils' vector argument conversion.
+    pts = list(map(tuple, points.tolist()))
+    find = tree.find_nearest
+    pilot_idx = np.linspace(0, len(pts) - 1, min(_PILOT_POINTS, len(pts))).astype(np.int64)
+    pilot = np.array([find(pts[i])[3] for i in pilot_idx.tolist()], dtype=np.float64)
+    radius = float(np.quantile(pilot, _PILOT_QUANTILE)) * _RADIUS_FACTOR
+    # A floor keeps the radius positive when the surfaces coincide (all pilot distances 0).
+    extent = float(np.ptp(points, axis=0).max()) if len(points) > 1 else 1.0
+    radius = max(radius, extent * 1e-6, 1e-12)
+    # None (nothing within the radius) becomes NaN here and is re-queried unbounded.
+    d = np.array([find(p, radius)[3] for p in pts], dtype=np.float64)
+    miss = np.flatnonzero(np.isnan(d))
+    if len(miss):
+        d[miss] = [find(pts[i])[3] for i in miss.tolist()]
+    return d
+
+
+def _bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
+    used = v[np.unique(f)]
+    return float(np.linalg.norm(used.max(0) - used.min(0)))
+
+
+def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
+    if n_samples is not None and samples_per_unit_area is not None:
+        raise ValueError("give either n_samples or samples_per_unit_area, not both")
+    if n_samples is not None:
+        if int(n_samples) != n_samples or n_samples < 0:
+            raise ValueError(f"n_samples must be a whole number >= 0, got {n_samples!r}")
+        return int(n_samples)
+    if samples_per_unit_area is not None:
+        density = float(samples_per_unit_area)
+        if not np.isfinite(density) or density < 0:
+            raise ValueError(f"samples_per_unit_area must be finite and >= 0, got {samples_per_unit_area!r}")
+        return int(np.ceil(_triangle_areas(v, f).sum() * density))
+    return DEFAULT_SAMPLES
+
+
+def _one_direction(v_a, f_a, rng_a, n_a, tree_b) -> tuple:
+    samples = sample_surface(v_a, f_a, n_a, rng_a)
+    verts = v_a[np.unique(f_a)]
+    d_samples = _distances(tree_b, samples)
+    d_verts = _distances(tree_b, verts)
+    hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
+    # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
+    mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
+    return hausdorff, mean, len(samples) + len(verts)
+
+
+def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
+                      samples_per_unit_area=None, n_samples=None, seed=0) -> dict:
+    """Two-sided Hausdorff and mean surface distance between two triangle meshes.
+
+    src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
+    dst_*: the mesh compared with it (e.g. a LOD). vertices (n, 3) float, faces (m, 3) int.
+    Sampling density per surface: ``n_samples`` points, or ``samples_per_unit_area``
+    points per unit of its area, or by default DEFAULT_SAMPLES; vertices are always added.
+
+    Returns a dict of floats (distances in mesh units unless *_percent):
+      hausdorff, mean, hausdorff_percent, mean_percent, diagonal,
+      hausdorff_src_to_dst, mean_src_to_dst, hausdorff_dst_to_src, mean_dst_to_src,
+      points_src, points_dst (query points used per direction),
+      seconds_src_to_dst, seconds_dst_to_src, seconds (wall time, tree builds included).
+    """
+    t0 = time.perf_counter()
+    vs, fs = _as_mesh(src_vertices, src_faces, "src")
+    vd, fd = _as_mesh(dst_vertices, dst_faces, "dst")
+    n_src = _sample_count(vs, fs, samples_per_unit_area, n_samples)
+    n_dst = _sample_count(vd, fd, samples_per_unit_area, n_samples)
+
+    h_sd, m_sd, k_src = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd))
+    t1 = time.perf_counter()
+    h_ds, m_ds, k_dst = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs))
+    t2 = time.perf_counter()
+
+    diagonal = _bbox_diagonal(vs, fs)
+    hausdorff = max(h_sd, h_ds)
+    mean = 0.5 * (m_sd + m_ds)
+    scale = 100.0 / diagonal if diagonal > 0 else float("nan")
+    return {
+        "hausdorff": hausdorff,
+        "mean": mean,
+        "hausdorff_percent": hausdorff * scale,
+        "mean_percent": mean * scale,
+        "diagonal": diagonal,
+        "hausdorff_src_to_dst": h_sd,
+        "mean_src_to_dst": m_sd,
+        "hausdorff_dst_to_src": h_ds,
+        "mean_dst_to_src": m_ds,
+        "points_src": k_src,
+        "points_dst": k_dst,
+        "seconds_src_to_dst": t1 - t0,
+        "seconds_dst_to_src": t2 - t1,
+        "seconds": time.perf_counter() - t0,
+    }
+
+
+def mesh_report(src_v, src_f, dst_v, dst_f, **deviation_options) -> dict:
+    """surface_deviation(src, dst) plus the triangle quality of dst and both face counts.
+
+    Keys: everything surface_deviation returns, plus mean_quality, min_quality,
+    sliver_percent (core.quality_summary of dst), src_faces, dst_faces.
+    """
+    # At runtime addon/ and core/ are subpackages of the extension's root package, so the
+    # relative import is the right one there. Tests and benches put the repository root
+    # on sys.path and import ``addon`` as a top-level package, which has no parent for
+    # ``..`` to reach; there ``core`` is itself top-level. Deciding by the package name
+    # (rather than by catching ImportError) keeps a real import error in core visible.
+    # Imported here, not at module level, so surface_deviation works without core.
+    if __package__ and "." in __package__:
+        from ..core import quality_summary
+    else:
+        from core import quality_summary
+
+    report = surface_deviation(src_v, src_f, dst_v, dst_f, **deviation_options)
+    report.update(quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
+    report["src_faces"] = int(np.shape(src_f)[0])
+    report["dst_faces"] = int(np.shape(dst_f)[0])
+    return report
