@@ -12,6 +12,9 @@ Run it directly for a quick check: ``python bench/blender_reference.py [mesh] [r
 """
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,6 +46,21 @@ class Decimated:
     faces: np.ndarray
     uv: Optional[np.ndarray]
     seconds: float
+
+
+@contextlib.contextmanager
+def stdout_to_stderr():
+    """Send everything written to file descriptor 1 (Blender's C code and importers print
+    progress there) to stderr meanwhile, so a bench's stdout carries only its table."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def _clear_scene() -> None:
@@ -87,12 +105,13 @@ def load_mesh(path, uv: bool = False) -> Mesh:
     path = Path(path)
     _clear_scene()
     suffix = path.suffix.lower()
-    if suffix == ".obj":
-        result = bpy.ops.wm.obj_import(filepath=str(path), forward_axis="Y", up_axis="Z")
-    elif suffix in (".gltf", ".glb"):
-        result = bpy.ops.import_scene.gltf(filepath=str(path))
-    else:
+    if suffix not in (".obj", ".gltf", ".glb"):
         raise ValueError(f"{path.name}: unsupported mesh format {suffix!r} (use .obj, .gltf or .glb)")
+    with stdout_to_stderr():
+        if suffix == ".obj":
+            result = bpy.ops.wm.obj_import(filepath=str(path), forward_axis="Y", up_axis="Z")
+        else:
+            result = bpy.ops.import_scene.gltf(filepath=str(path))
     if result != {"FINISHED"}:
         raise RuntimeError(f"{path.name}: Blender's importer returned {result}")
     # Importers may add helper meshes that are not part of the asset (glTF's bone-shape
@@ -175,8 +194,6 @@ def decimate(vertices, faces, ratio: float, uv=None, *, triangulate: bool = True
 
 
 if __name__ == "__main__":
-    import sys
-
     path = Path(sys.argv[1]) if len(sys.argv) > 1 else _bootstrap.DEFAULT_MESH_DIR / "ogre.obj"
     ratio = float(sys.argv[2]) if len(sys.argv) > 2 else 0.1
     mesh = load_mesh(path, uv=True)
