@@ -30,6 +30,8 @@ from .weld import weld_map
 from .geometry import edge_parameter
 
 FREE, SEAM, LOCKED = 0, 1, 2
+# Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
+SELECTION_ROUNDS = 1
 
 
 @dataclass
@@ -271,10 +273,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, rng, preserve_s
         if not within.any():
             return STOP_MAX_ERROR
         cand = cand.subset(within)
-    chosen = selection.independent_set(cand, conn, s.F, n, rng)
-    ok = validation.valid_collapses(s, conn, cand, chosen)
-    _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
-    chosen = chosen[ok]
+    chosen = _choose(s, conn, cand, n, rng, pass_no)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
     need = len(s.F) - target
     removed = conn.edge_faces[cand.edge[chosen]]
@@ -288,6 +287,33 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, rng, preserve_s
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(err.max())))
         _apply(s, conn, cand, chosen, pass_no)
     return None
+
+
+def _choose(s: State, conn, cand, n, rng, pass_no) -> np.ndarray:
+    """Valid, mutually independent collapses for this pass.
+
+    Several selection rounds: each takes the local minima among candidates whose ends lie
+    outside the closed one-rings of the collapses already taken, so later rounds never
+    interfere with earlier ones and one connectivity rebuild serves many more collapses.
+    """
+    taken = []
+    eligible = np.ones(len(cand.edge), dtype=bool)
+    for _ in range(SELECTION_ROUNDS):
+        chosen = selection.independent_set(cand, conn, s.F, n, rng, eligible)
+        if len(chosen) == 0:
+            break
+        ok = validation.valid_collapses(s, conn, cand, chosen)
+        _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
+        eligible[chosen] = False
+        chosen = chosen[ok]
+        taken.append(chosen)
+        if len(chosen) == 0:
+            continue
+        blocked = selection.closed_rings(conn, s.F, np.concatenate([cand.keep[chosen], cand.remove[chosen]]), n)
+        eligible &= ~(blocked[cand.keep] | blocked[cand.remove])
+        if not eligible.any():
+            break
+    return np.concatenate(taken) if taken else np.zeros(0, dtype=np.int64)
 
 
 def _non_manifold_vertices(conn, F, n) -> np.ndarray:

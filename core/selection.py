@@ -78,27 +78,40 @@ def _still_rejected(s, conn, a, b) -> np.ndarray:
     return found & (last_change < s.rejected_pass[pos])
 
 
-def independent_set(cand: Candidates, conn, F, n, rng) -> np.ndarray:
-    """Indices into ``cand`` of edges cheapest among all candidate edges touching the
-    faces around both their ends.
+def independent_set(cand: Candidates, conn, F, n, rng, eligible=None) -> np.ndarray:
+    """Indices into ``cand`` of edges cheapest among all eligible candidate edges
+    touching the faces around both their ends.
 
-    Two chosen edges then never share a face, nor do their one-rings overlap in a way
-    that lets one collapse invalidate another's checks, so a whole pass can be validated
-    and applied at once; taking local minima approximates the greedy cheapest-first order.
+    Two chosen edges then never share a face, nor is an end of one a neighbour of an end
+    of the other, so one collapse cannot invalidate another's checks and a whole pass can
+    be validated and applied at once; taking local minima approximates the greedy
+    cheapest-first order. ``eligible`` (len(cand),) bool restricts the choice.
     """
-    k = len(cand.edge)
+    idx = np.arange(len(cand.edge)) if eligible is None else np.flatnonzero(eligible)
+    cost = cand.cost[idx]
+    k = len(idx)
     if rng is None:
-        order = np.argsort(cand.cost)
+        order = np.argsort(cost)
     else:  # the seed decides between equal costs
         perm = rng.permutation(k)
-        order = perm[np.argsort(cand.cost[perm])]
+        order = perm[np.argsort(cost[perm])]
+    edges = cand.edge[idx]
     rank = np.full(len(conn.edges), _NO_RANK, dtype=np.int64)
-    rank[cand.edge[order]] = np.arange(k)
+    rank[edges[order]] = np.arange(k)
     side_rank = rank[conn.face_edges]
     # Corner s of a face starts side s and ends side s-1: both are edges at its vertex.
     corner_min = np.minimum(side_rank, side_rank[:, [2, 0, 1]]).ravel()
     cheapest_at_vertex = topology.min_per_vertex(conn, corner_min, n, _NO_RANK)
     cheapest_near_face = cheapest_at_vertex[F].min(axis=1)
     cheapest_in_ring = topology.min_per_vertex(conn, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
-    mine = rank[cand.edge]
-    return np.flatnonzero((mine == cheapest_in_ring[cand.keep]) & (mine == cheapest_in_ring[cand.remove]))
+    mine = rank[edges]
+    return idx[(mine == cheapest_in_ring[cand.keep[idx]]) & (mine == cheapest_in_ring[cand.remove[idx]])]
+
+
+def closed_rings(conn, F, vertices, n) -> np.ndarray:
+    """(n,) bool: ``vertices`` and every vertex sharing a face with one of them."""
+    hit = np.zeros(n, dtype=bool)
+    hit[vertices] = True
+    faces_hit = hit[F].any(axis=1)
+    hit[F[faces_hit].ravel()] = True
+    return hit

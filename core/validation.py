@@ -3,7 +3,8 @@
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
   opposite the edge, and a closed tetrahedron is never collapsed;
-- no face turns over (new.old normal below MIN_NORMAL_COSINE) or collapses to zero area;
+- no face turns over (new.old normal below MIN_NORMAL_COSINE) or collapses to zero area,
+  and none becomes a sliver (quality below SLIVER_GUARD) worse than it was;
 - no UV triangle flips (delegated to the wedges, when corner data is carried).
 """
 from __future__ import annotations
@@ -14,6 +15,8 @@ from . import topology
 
 MIN_NORMAL_COSINE = 0.2
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
+SLIVER_GUARD = 0.3  # triangle quality below which a face counts as a sliver
+SLIVER_SLACK = 0.5
 
 
 def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
@@ -45,6 +48,12 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     len_new = np.linalg.norm(n_new, axis=1)
     dot = np.einsum("ij,ij->i", n_old, n_new)
     bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    # Never turn a face into a sliver: the output's worst triangles stay up. A face that
+    # already is one may get somewhat worse (not below half its quality), or the
+    # slivers of the input would freeze their whole neighbourhood.
+    q_new = _quality(p_new, len_new)
+    q_old = _quality(p_old, len_old)
+    bad |= ~dying & (q_new < SLIVER_GUARD) & ((q_old >= SLIVER_GUARD) | (q_new < SLIVER_SLACK * q_old))
     ok &= np.bincount(collapse[bad], minlength=c) == 0
 
     if s.wedges is not None:
@@ -68,3 +77,9 @@ def _link_condition(conn, edges, fv, slot, from_keep, collapse, keep, remove, c,
     degree_remove = np.bincount(keys_remove // n, minlength=c) + 1
     ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
     return ok
+
+
+def _quality(p, double_area):
+    """Triangle quality 4 sqrt(3) area / sum of squared edges, for (k, 3, 3) corners."""
+    sq = ((p[:, 1] - p[:, 0]) ** 2).sum(1) + ((p[:, 2] - p[:, 1]) ** 2).sum(1) + ((p[:, 0] - p[:, 2]) ** 2).sum(1)
+    return 2.0 * np.sqrt(3.0) * double_area / np.maximum(sq, 1e-300)
