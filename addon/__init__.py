@@ -1,10 +1,42 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Everything that touches bpy. Placeholder until the add-on lands: registers nothing."""
+"""Everything that touches bpy: the panel, the operators, mesh I/O and LOD objects.
+
+Modules (one idea each):
+    _core           where ``core`` is imported from (extension vs. top-level layout)
+    edges           edge bookkeeping in plain NumPy (feature edges, sharp edges, seams)
+    vertex_groups   vertex-group weights in bulk (no per-vertex loops)
+    mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
+    importance      what the Importance settings mean as core parameters
+    lod             LodSettings and generate_lods(): read, simplify, write, link (no UI)
+    job             a LOD run whose simplification can go to a worker thread (Esc cancel)
+    props           the settings as Blender properties (operator and scene share them)
+    operators       Generate LODs, Paint Importance, Importance from Armature
+    panel           the sidebar panel
+    measure         surface deviation and the LOD report numbers
+
+The submodules that need bpy are imported inside register(), so the pure-NumPy parts
+(edges, importance) import without Blender.
+"""
+
+_classes = []
 
 
 def register():
-    pass
+    import bpy
+
+    from . import operators, panel, props
+
+    _classes[:] = [props.LineQuadricLodSettings, *operators.classes, *panel.classes]
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.line_quadric_lod = bpy.props.PointerProperty(type=props.LineQuadricLodSettings)
 
 
 def unregister():
-    pass
+    import bpy
+
+    if hasattr(bpy.types.Scene, "line_quadric_lod"):
+        del bpy.types.Scene.line_quadric_lod
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)
+    _classes.clear()

@@ -1,0 +1,121 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Edge bookkeeping for triangle meshes in plain NumPy (no bpy).
+
+The add-on needs edges in three places: feature edges handed to the core (material
+borders found between triangles), and the sharp edges and seams written onto a LOD,
+which are found between output triangles and then matched against the edges Blender
+built for the new mesh. All of it is sorting integer keys, so it lives here, testable
+without Blender.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def edge_keys(pairs: np.ndarray, n_vertices: int) -> np.ndarray:
+    """One int64 per undirected edge: min * n + max (same key for (a, b) and (b, a))."""
+    p = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    lo = p.min(axis=1)
+    hi = p.max(axis=1)
+    return lo * np.int64(max(n_vertices, 1)) + hi
+
+
+def adjacent_triangle_pairs(faces: np.ndarray):
+    """Pairs of triangles sharing an edge.
+
+    Returns (edges (k, 2) vertex pairs, face_a (k,), face_b (k,)). A manifold interior
+    edge gives one pair; an edge shared by t > 2 triangles gives t - 1 consecutive pairs
+    (enough to detect any difference between the triangles around it); open boundary
+    edges give none.
+    """
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    m = len(f)
+    if m == 0:
+        empty = np.empty(0, dtype=np.int64)
+        return np.empty((0, 2), dtype=np.int64), empty, empty
+    a = f.ravel()
+    b = f[:, [1, 2, 0]].ravel()
+    face = np.repeat(np.arange(m, dtype=np.int64), 3)
+    n = int(f.max()) + 1
+    keys = edge_keys(np.stack([a, b], axis=1), n)
+    order = np.argsort(keys, kind="stable")
+    ks = keys[order]
+    same = np.flatnonzero(ks[1:] == ks[:-1])
+    first, second = order[same], order[same + 1]
+    edges = np.stack([a[first], b[first]], axis=1)
+    return edges, face[first], face[second]
+
+
+def differing_edges(faces: np.ndarray, face_values: np.ndarray) -> np.ndarray:
+    """Edges between two triangles whose ``face_values`` differ (material borders,
+    smoothing-group borders), (k, 2) vertex pairs, each edge once."""
+    edges, fa, fb = adjacent_triangle_pairs(faces)
+    vals = np.asarray(face_values)
+    return unique_edges(edges[vals[fa] != vals[fb]])
+
+
+def corner_discontinuous_edges(faces: np.ndarray, corner_values: np.ndarray, tol: float = 1e-6) -> np.ndarray:
+    """Edges across which a per-corner attribute jumps (UV seams), (k, 2) vertex pairs.
+
+    corner_values: (m, 3, c), indexed like ``faces``. An edge is discontinuous when, at
+    either of its two vertices, the values in the two triangles differ by more than tol.
+    """
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    cv = np.asarray(corner_values, dtype=np.float64)
+    cv = cv.reshape(len(f), 3, -1)
+    edges, fa, fb = adjacent_triangle_pairs(f)
+    if len(edges) == 0:
+        return edges
+
+    def corner_of(face_idx, vert):
+        # Local corner (0..2) at which ``vert`` sits in each triangle of ``face_idx``.
+        return np.argmax(f[face_idx] == vert[:, None], axis=1)
+
+    jump = np.zeros(len(edges), dtype=bool)
+    for end in (0, 1):
+        v = edges[:, end]
+        va = cv[fa, corner_of(fa, v)]
+        vb = cv[fb, corner_of(fb, v)]
+        jump |= np.abs(va - vb).max(axis=1) > tol
+    return unique_edges(edges[jump])
+
+
+def unique_edges(pairs: np.ndarray) -> np.ndarray:
+    """Undirected edges, each once, as (min, max) rows sorted by key."""
+    p = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    if len(p) == 0:
+        return p
+    p = np.sort(p, axis=1)
+    return np.unique(p, axis=0)
+
+
+def merge_weighted_edges(groups) -> tuple:
+    """Union of several edge sets, each with one weight: an edge in several sets keeps
+    its largest weight. groups: iterable of ((k, 2) pairs, weight). Returns (edges, weights)."""
+    pairs, weights = [], []
+    for edges, weight in groups:
+        e = unique_edges(edges)
+        if len(e):
+            pairs.append(e)
+            weights.append(np.full(len(e), float(weight)))
+    if not pairs:
+        return np.empty((0, 2), dtype=np.int64), np.empty(0)
+    p = np.concatenate(pairs)
+    w = np.concatenate(weights)
+    n = int(p.max()) + 1
+    keys = edge_keys(p, n)
+    # Sort by key, then by descending weight, and keep the first of each key.
+    order = np.lexsort((-w, keys))
+    keys, p, w = keys[order], p[order], w[order]
+    keep = np.ones(len(keys), dtype=bool)
+    keep[1:] = keys[1:] != keys[:-1]
+    return p[keep], w[keep]
+
+
+def mark_edges(mesh_edges: np.ndarray, wanted: np.ndarray, n_vertices: int) -> np.ndarray:
+    """Boolean mask over ``mesh_edges`` (E, 2): True where the edge is in ``wanted``."""
+    me = np.asarray(mesh_edges, dtype=np.int64).reshape(-1, 2)
+    w = np.asarray(wanted, dtype=np.int64).reshape(-1, 2)
+    if len(me) == 0 or len(w) == 0:
+        return np.zeros(len(me), dtype=bool)
+    return np.isin(edge_keys(me, n_vertices), edge_keys(w, n_vertices))

@@ -1,0 +1,80 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A LOD run over several objects whose expensive part can go to a worker thread.
+
+A blocking operator never sees the Esc key (Blender handles events between operator
+calls), so cancelling needs a modal operator that keeps the UI loop running while the
+work happens elsewhere. Only the core is thread-safe, not bpy, hence the split from
+lod.py: Blender data is read here on the main thread (constructor), the simplification
+and measuring run in a thread (start) or inline (run), and Blender data is written only
+by commit(), on the main thread, after everything is done. A cancelled or failed job
+never reaches commit(), so the scene stays exactly as it was.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Callable, Optional
+
+from . import lod
+
+
+class LodJob:
+    def __init__(self, context, objects, settings: lod.LodSettings):
+        # Reads Blender data: main thread only. Raises LodError for bad input.
+        self.inputs = [lod.prepare(context, ob, settings) for ob in objects]
+        self.outputs = []
+        self.fraction = 0.0
+        self.error: Optional[BaseException] = None
+        self._cancel = threading.Event()
+        self._thread: Optional[threading.Thread] = None
+
+    def run(self, progress: Optional[Callable[[float], object]] = None) -> None:
+        """Compute every object's LODs in the calling thread; raises LodCancelled/LodError."""
+        count = len(self.inputs)
+        for index, lod_input in enumerate(self.inputs):
+            def step(fraction, index=index):
+                self.fraction = (index + fraction) / count
+                if progress is not None:
+                    progress(self.fraction)
+                return not self._cancel.is_set()
+
+            self.outputs.append(lod.compute(lod_input, step))
+        self.fraction = 1.0
+
+    def _run_in_thread(self) -> None:
+        try:
+            self.run()
+        except BaseException as ex:  # handed to the main thread, which reports it
+            self.error = ex
+
+    def start(self) -> None:
+        """Run :meth:`run` in a daemon thread; poll :attr:`done`."""
+        self._thread = threading.Thread(target=self._run_in_thread, name="line_quadric_lod", daemon=True)
+        self._thread.start()
+
+    def cancel(self) -> None:
+        """Ask the run to stop at its next progress report (within one simplification pass)."""
+        self._cancel.set()
+
+    @property
+    def cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    @property
+    def done(self) -> bool:
+        return self._thread is None or not self._thread.is_alive()
+
+    def wait(self, timeout: Optional[float] = None) -> bool:
+        if self._thread is not None:
+            self._thread.join(timeout)
+        return self.done
+
+    def commit(self, context) -> list:
+        """Write and link the LODs (main thread). Raises the worker's error, or
+        LodCancelled if the job was cancelled, before touching any data."""
+        if not self.done:
+            raise RuntimeError("the LOD job is still running")
+        if self.error is not None:
+            raise self.error
+        if self._cancel.is_set():
+            raise lod.LodCancelled("cancelled")
+        return lod.commit(context, self.outputs)

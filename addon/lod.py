@@ -1,0 +1,509 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Generate a LOD chain for a mesh object: read, simplify with the core, write, link.
+
+No UI here (operators, the command line and tests all call it). Bad input raises
+:class:`LodError` with a message meant for the user; a cancelled run raises
+:class:`LodCancelled`. Either way the scene is left as it was: all LOD meshes and
+objects are built first and linked into the scene only when every one of them exists.
+
+Three phases, so a caller can run the expensive middle one in a worker thread:
+    prepare(context, obj, settings) -> LodInput      main thread: reads Blender data
+    compute(lod_input, progress)    -> LodOutput     any thread: NumPy and the core only
+    commit(context, [outputs])      -> [report]      main thread: writes Blender data
+:func:`generate_lods` chains them for one object.
+"""
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+import bpy
+
+from ._core import core
+from . import edges as edge_util
+from . import importance as imp
+from . import measure
+from . import mesh_io
+
+SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
+LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
+DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
+
+
+class LodError(Exception):
+    """Bad input for LOD generation; the message is written for the user."""
+
+
+class LodCancelled(Exception):
+    """The progress callback asked to stop; nothing was changed."""
+
+
+@dataclass
+class LodSettings:
+    """Every setting of a LOD run; the field names are the operator's property names."""
+
+    ratio: float = 0.5
+    levels: int = 3
+    level_factor: float = 0.5
+    target_triangles: int = 0
+    line_weight: float = 1e-3
+    importance_source: str = 'NONE'
+    importance_group: str = ""
+    importance_strength: float = 1.0
+    importance_mode: str = 'SOFT'
+    preserve_boundaries: bool = True
+    boundary_strength: float = 1.0
+    preserve_seams: bool = True
+    seam_strength: float = 1.0
+    preserve_sharp: bool = True
+    sharp_strength: float = 1.0
+    preserve_materials: bool = True
+    material_strength: float = 1.0
+    use_modifiers: bool = True
+    measure_deviation: bool = True
+
+    @classmethod
+    def names(cls) -> list:
+        return [f.name for f in dataclasses.fields(cls)]
+
+    @classmethod
+    def from_properties(cls, props) -> "LodSettings":
+        """From anything carrying the same attribute names (operator, scene settings)."""
+        return cls(**{name: getattr(props, name) for name in cls.names()})
+
+    def validate(self) -> None:
+        if self.importance_source not in ('NONE', 'VERTEX_GROUP', 'ARMATURE'):
+            raise LodError(f"importance source must be NONE, VERTEX_GROUP or ARMATURE, not {self.importance_source!r}")
+        if self.importance_mode not in ('SOFT', 'STRONG'):
+            raise LodError(f"importance mode must be SOFT or STRONG, not {self.importance_mode!r}")
+        if not (0.0 < self.ratio <= 1.0):
+            raise LodError(f"ratio must be in (0, 1], got {self.ratio}")
+        if self.levels < 1:
+            raise LodError(f"levels must be at least 1, got {self.levels}")
+        if not (0.0 < self.level_factor < 1.0):
+            raise LodError(f"level factor must be between 0 and 1, got {self.level_factor}")
+        if self.target_triangles < 0:
+            raise LodError(f"target triangles must be 0 (use the ratio) or positive, got {self.target_triangles}")
+        for name in ("line_weight", "importance_strength", "boundary_strength", "seam_strength",
+                     "sharp_strength", "material_strength"):
+            value = getattr(self, name)
+            if not np.isfinite(value) or value < 0:
+                raise LodError(f"{name.replace('_', ' ')} must be >= 0, got {value}")
+
+    def targets(self, triangles: int) -> list:
+        """Triangle count of each LOD for a source of ``triangles`` triangles."""
+        first = self.target_triangles if self.target_triangles > 0 else int(round(self.ratio * triangles))
+        if first >= triangles:
+            raise LodError(
+                f"the first LOD's target ({first} triangles) is not smaller than the mesh "
+                f"({triangles} triangles): lower the ratio or the triangle count")
+        counts = [int(round(first * self.level_factor ** k)) for k in range(self.levels)]
+        if counts[-1] < 1 or any(b >= a for a, b in zip(counts, counts[1:])):
+            raise LodError(
+                f"{self.levels} levels at factor {self.level_factor:g} from {first} triangles give "
+                f"{counts}: every LOD needs fewer triangles than the one before and at least 1; "
+                f"use fewer levels or a larger first LOD")
+        return counts
+
+
+@dataclass
+class LodInput:
+    source_name: str
+    settings: LodSettings
+    data: mesh_io.MeshData
+    targets: list
+    core_options: dict
+    names: dict  # attribute keys given to the core -> what they stand for
+    warnings: list = field(default_factory=list)
+
+
+@dataclass
+class LodOutput:
+    input: LodInput
+    levels: list  # MeshData per LOD
+    reports: list  # dict per LOD
+    seconds: float
+
+
+# ----------------------------------------------------------------------------- prepare
+
+
+def _scene_and_depsgraph(context_or_scene):
+    if isinstance(context_or_scene, bpy.types.Scene):
+        scene = context_or_scene
+        if bpy.context.scene == scene and bpy.context.view_layer is not None:
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+        else:
+            depsgraph = scene.view_layers[0].depsgraph
+            depsgraph.update()
+        return scene, depsgraph
+    return context_or_scene.scene, context_or_scene.evaluated_depsgraph_get()
+
+
+def armature_of(obj):
+    """The armature object deforming ``obj`` (Armature modifier, else armature parent)."""
+    for md in obj.modifiers:
+        if md.type == 'ARMATURE' and md.object is not None and md.object.type == 'ARMATURE':
+            return md.object
+    if obj.parent is not None and obj.parent.type == 'ARMATURE' and obj.parent_type == 'ARMATURE':
+        return obj.parent
+    return None
+
+
+def deform_columns(obj, group_names) -> tuple:
+    """(armature, column indices of the groups named after its deform bones) or (None, [])."""
+    arm = armature_of(obj)
+    if arm is None:
+        return None, []
+    deform = {b.name for b in arm.data.bones if b.use_deform}
+    return arm, [i for i, name in enumerate(group_names) if name in deform]
+
+
+def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
+    """Paper Sec. 5.3 importance of ``obj``'s vertices in [0, 1] (w_i / 0.1), or LodError."""
+    arm = armature_of(obj)
+    if arm is None:
+        raise LodError(f'"{obj.name}" is not skinned: it has no Armature modifier or armature parent')
+    if not any(b.use_deform for b in arm.data.bones):
+        raise LodError(f'armature "{arm.name}" has no deform bones')
+    _, cols = deform_columns(obj, group_names)
+    if not cols:
+        raise LodError(
+            f'"{obj.name}" has no vertex groups named after the deform bones of "{arm.name}": '
+            f'weight it first (e.g. Parent > With Automatic Weights)')
+    return imp.skin_importance(np.asarray(group_weights)[:, cols])
+
+
+def _importance(obj, settings, data) -> Optional[np.ndarray]:
+    if settings.importance_source == 'VERTEX_GROUP':
+        name = settings.importance_group
+        if not name:
+            raise LodError("importance source is Vertex Group but no group is chosen")
+        if name not in data.group_names:
+            raise LodError(f'"{obj.name}" has no vertex group "{name}"')
+        return data.group_weights[:, data.group_names.index(name)]
+    if settings.importance_source == 'ARMATURE':
+        return skin_importance_of(obj, data.group_names, data.group_weights)
+    return None
+
+
+def _core_options(obj, settings, data, g) -> tuple:
+    names = {}
+    vattr, cattr, normalize, uvs = {}, {}, [], []
+    weights = data.group_weights
+    if data.group_names:
+        _, skin_cols = deform_columns(obj, data.group_names)
+        other_cols = [i for i in range(len(data.group_names)) if i not in set(skin_cols)]
+        if skin_cols:
+            skin = weights[:, skin_cols]
+            vattr["skin"] = skin
+            names["skin"] = skin_cols
+            # Renormalised only when the artist's weights were normalised to begin with.
+            if np.allclose(skin.sum(axis=1), 1.0, atol=1e-3):
+                normalize.append("skin")
+        if other_cols:
+            vattr["groups"] = weights[:, other_cols]
+            names["groups"] = other_cols
+    for i, layer in enumerate(data.colors):
+        key = f"color{i}"
+        (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
+    for i, sk in enumerate(data.shape_keys):
+        vattr[f"shape{i}"] = sk.offsets
+    for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
+        cattr[f"uv{i}"] = corners
+        uvs.append(f"uv{i}")
+
+    feature_sets = []
+    if settings.preserve_sharp:
+        feature_sets.append((data.sharp_edges, settings.sharp_strength))
+    if settings.preserve_seams:
+        feature_sets.append((data.seam_edges, settings.seam_strength))
+    if settings.preserve_materials:
+        feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
+    feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
+
+    options = dict(
+        line_weight=float(settings.line_weight),
+        boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0,
+        preserve_seams=bool(settings.preserve_seams),
+        vertex_attributes=vattr,
+        normalize_attributes=tuple(normalize),
+        corner_attributes=cattr,
+        uv_attributes=tuple(uvs),
+    )
+    if len(feature_edges):
+        options["feature_edges"] = feature_edges
+        options["edge_weights"] = edge_weights
+    if g is not None:
+        options.update(imp.controls(g, settings.line_weight, settings.importance_strength, settings.importance_mode))
+    return options, names
+
+
+def prepare(context_or_scene, source, settings: LodSettings) -> LodInput:
+    """Check the input and read everything the run needs from Blender (main thread)."""
+    if source is None or getattr(source, "type", None) != 'MESH':
+        name = getattr(source, "name", source)
+        raise LodError(f'"{name}" is not a mesh object')
+    if source.mode == 'EDIT':
+        raise LodError(f'"{source.name}" is in Edit Mode: switch to Object Mode first')
+    settings.validate()
+    _, depsgraph = _scene_and_depsgraph(context_or_scene)
+    data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
+    if len(data.vertices) == 0:
+        raise LodError(f'"{source.name}" has an empty mesh')
+    if len(data.faces) == 0:
+        raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
+    targets = settings.targets(len(data.faces))
+    g = _importance(source, settings, data)
+    options, names = _core_options(source, settings, data, g)
+    return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings)
+
+
+# ----------------------------------------------------------------------------- compute
+
+
+def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
+    fo = result.face_origin
+    va, ca = result.vertex_attributes, result.corner_attributes
+    n_out = len(result.vertices)
+    weights = np.zeros((n_out, len(data.group_names)))
+    for key in ("skin", "groups"):
+        if key in names:
+            weights[:, names[key]] = np.clip(va[key], 0.0, 1.0)
+    colors = [
+        mesh_io.ColorLayer(layer.name, layer.domain, layer.data_type,
+                           va[f"color{i}"] if layer.domain == 'POINT' else ca[f"color{i}"])
+        for i, layer in enumerate(data.colors)
+    ]
+    uv_maps = {uv_name: ca[f"uv{i}"] for i, uv_name in enumerate(data.uv_maps)}
+    shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
+    smooth_group = data.smooth_group[fo]
+    faces = result.faces
+    # Normals split where the source's did: between faces of different smoothing regions.
+    sharp = edge_util.differing_edges(faces, smooth_group) if len(data.sharp_edges) else np.empty((0, 2), np.int64)
+    if len(data.seam_edges) and uv_maps:
+        seam = edge_util.unique_edges(np.concatenate(
+            [edge_util.corner_discontinuous_edges(faces, uv) for uv in uv_maps.values()]))
+    else:
+        seam = np.empty((0, 2), np.int64)
+    return mesh_io.MeshData(
+        vertices=result.vertices,
+        faces=faces,
+        material_index=data.material_index[fo],
+        smooth=data.smooth[fo],
+        smooth_group=smooth_group,
+        uv_maps=uv_maps,
+        uv_active=data.uv_active,
+        uv_render=data.uv_render,
+        colors=colors,
+        color_active=data.color_active,
+        color_render=data.color_render,
+        group_names=list(data.group_names),
+        group_weights=weights,
+        basis_name=data.basis_name,
+        shape_keys=shape_keys,
+        shape_use_relative=data.shape_use_relative,
+        sharp_edges=sharp,
+        seam_edges=seam,
+    )
+
+
+def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] = None) -> LodOutput:
+    """Simplify and measure (no bpy data access: safe in a worker thread).
+
+    progress(fraction in [0, 1]) is called during the run; returning False cancels it
+    (LodCancelled). Simplification is the first 80 %, the deviation report the rest.
+    """
+    t0 = time.perf_counter()
+    measuring = lod_input.settings.measure_deviation
+    simplify_share = 0.8 if measuring else 1.0
+
+    def report_progress(fraction):
+        if progress is not None and progress(min(max(fraction, 0.0), 1.0)) is False:
+            raise LodCancelled("cancelled")
+
+    data = lod_input.data
+    try:
+        results = core.simplify_chain(
+            data.vertices, data.faces, targets=lod_input.targets,
+            progress=lambda f: progress is None or progress(simplify_share * f) is not False,
+            **lod_input.core_options)
+    except core.SimplifyCancelled as ex:
+        raise LodCancelled("cancelled") from ex
+    except ValueError as ex:
+        raise LodError(f'"{lod_input.source_name}": {ex}') from ex
+
+    levels, reports = [], []
+    for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
+        report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
+        levels.append(_output_mesh(data, result, lod_input.names))
+        stats = result.stats
+        entry = {
+            "level": k,
+            "target": int(target),
+            "triangles": int(len(result.faces)),
+            "vertices": int(len(result.vertices)),
+            "seconds": float(stats.seconds),
+            "stop_reason": stats.stop_reason,
+        }
+        if measuring:
+            rep = measure.mesh_report(data.vertices, data.faces, result.vertices, result.faces,
+                                      n_samples=DEVIATION_SAMPLES)
+            entry.update({key: float(rep[key]) for key in (
+                "hausdorff_percent", "mean_percent", "mean_quality", "min_quality", "sliver_percent")})
+        else:
+            entry.update(core.quality_summary(result.vertices, result.faces))
+        if stats.stop_reason != core.STOP_TARGET:
+            lod_input.warnings.append(
+                f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {stats.stop_reason}")
+        reports.append(entry)
+    report_progress(1.0)
+    return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
+
+
+# ----------------------------------------------------------------------------- commit
+
+
+_TRANSFORM_PROPS = ("rotation_mode", "location", "rotation_euler", "rotation_quaternion",
+                    "rotation_axis_angle", "scale", "delta_location", "delta_rotation_euler",
+                    "delta_rotation_quaternion", "delta_scale")
+_ARMATURE_MOD_PROPS = ("object", "use_vertex_groups", "use_bone_envelopes", "use_deform_preserve_volume",
+                       "use_multi_modifier", "vertex_group", "invert_vertex_group", "show_viewport",
+                       "show_render")
+
+
+def _copy_setup(source, lod, level: int) -> None:
+    lod.parent = source.parent
+    lod.parent_type = source.parent_type
+    if source.parent_type == 'BONE':
+        lod.parent_bone = source.parent_bone
+    lod.matrix_parent_inverse = source.matrix_parent_inverse.copy()
+    for prop in _TRANSFORM_PROPS:
+        setattr(lod, prop, getattr(source, prop))
+
+    materials = source.data.materials
+    for i in range(len(source.material_slots)):
+        lod.data.materials.append(materials[i] if i < len(materials) else None)
+    for i, slot in enumerate(source.material_slots):
+        if slot.link == 'OBJECT':
+            lod.material_slots[i].link = 'OBJECT'
+            lod.material_slots[i].material = slot.material
+
+    for key in source.keys():
+        if key in (SOURCE_PROP, LEVEL_PROP):
+            continue
+        value = source[key]
+        lod[key] = value.to_dict() if hasattr(value, "to_dict") else (
+            value.to_list() if hasattr(value, "to_list") else value)
+        try:
+            lod.id_properties_ui(key).update(**source.id_properties_ui(key).as_dict())
+        except TypeError:  # values without UI data (groups, ID pointers)
+            pass
+    lod[SOURCE_PROP] = source.name
+    lod[LEVEL_PROP] = level
+
+    for md in source.modifiers:
+        if md.type == 'ARMATURE' and md.object is not None:
+            new = lod.modifiers.new(md.name, 'ARMATURE')
+            for prop in _ARMATURE_MOD_PROPS:
+                setattr(new, prop, getattr(md, prop))
+
+
+def previous_lods(source_name: str) -> list:
+    """LOD objects made from the object called ``source_name`` by an earlier run."""
+    return [ob for ob in bpy.data.objects if ob.get(SOURCE_PROP) == source_name and LEVEL_PROP in ob]
+
+
+def _remove_object_and_mesh(ob) -> None:
+    mesh = ob.data if ob.type == 'MESH' else None
+    bpy.data.objects.remove(ob)
+    if mesh is not None and mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+
+
+def _in_scene(collection, scene) -> bool:
+    return collection == scene.collection or collection in scene.collection.children_recursive[:]
+
+
+def _lod_collection(scene, source):
+    name = f"{source.name}_LODs"
+    coll = bpy.data.collections.get(name)
+    if coll is None:
+        coll = bpy.data.collections.new(name)
+    if not _in_scene(coll, scene):
+        parent = next((c for c in source.users_collection if _in_scene(c, scene)), scene.collection)
+        parent.children.link(coll)
+    return coll
+
+
+def commit(context_or_scene, outputs: list) -> list:
+    """Write the LOD objects of each output and link them (main thread).
+
+    Everything is built unlinked first; if anything fails, what was built is removed
+    and the scene is untouched. Then each source's earlier LODs are replaced.
+    Returns one report dict per output.
+    """
+    scene, _ = _scene_and_depsgraph(context_or_scene)
+    built = []
+    try:
+        for out in outputs:
+            source = bpy.data.objects.get(out.input.source_name)
+            if source is None:
+                raise LodError(f'the object "{out.input.source_name}" no longer exists')
+            objects = []
+            built.append((source, out, objects))
+            for k, level in enumerate(out.levels, start=1):
+                mesh = mesh_io.build_mesh(f"{source.name}_LOD{k}", level)
+                lod = bpy.data.objects.new(f"{source.name}_LOD{k}.tmp", mesh)
+                objects.append(lod)
+                mesh_io.add_vertex_groups(lod, level)
+                mesh_io.add_shape_keys(lod, level)
+                _copy_setup(source, lod, k)
+    except BaseException:
+        for _, _, objects in built:
+            for lod in objects:
+                _remove_object_and_mesh(lod)
+        raise
+
+    reports = []
+    new = {lod.as_pointer() for _, _, objects in built for lod in objects}
+    for source, out, objects in built:
+        for old in previous_lods(source.name):
+            if old.as_pointer() not in new:
+                _remove_object_and_mesh(old)
+        coll = _lod_collection(scene, source)
+        for k, lod in enumerate(objects, start=1):
+            lod.name = f"{source.name}_LOD{k}"
+            lod.data.name = lod.name
+            coll.objects.link(lod)
+        levels = [dict(entry, name=lod.name) for entry, lod in zip(out.reports, objects)]
+        data = out.input.data
+        reports.append({
+            "object": source.name,
+            "collection": coll.name,
+            "source_triangles": int(len(data.faces)),
+            "source_vertices": int(len(data.vertices)),
+            "seconds": float(out.seconds),
+            "levels": levels,
+            "warnings": list(out.input.warnings),
+        })
+    return reports
+
+
+def generate_lods(context_or_scene, source_obj, settings: LodSettings,
+                  progress: Optional[Callable[[float], object]] = None) -> dict:
+    """Make ``source_obj``'s LOD chain and link it into the scene. Returns its report:
+    {object, collection, source_triangles, source_vertices, seconds, warnings,
+     levels: [{level, name, target, triangles, vertices, seconds, stop_reason,
+               hausdorff_percent, mean_percent (if measured), mean_quality,
+               min_quality, sliver_percent}]}.
+    Raises LodError (bad input) or LodCancelled (progress returned False); in both
+    cases the scene is unchanged.
+    """
+    lod_input = prepare(context_or_scene, source_obj, settings)
+    output = compute(lod_input, progress)
+    return commit(context_or_scene, [output])[0]

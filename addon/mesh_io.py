@@ -1,0 +1,345 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Blender meshes <-> NumPy arrays, in bulk (foreach_get / foreach_set, no per-vertex loops).
+
+Reading gives a :class:`MeshData`: the mesh triangulated through its loop triangles, with
+everything an artist expects on a LOD as arrays indexed by vertex or by triangle corner.
+Writing makes a new mesh (and its object's vertex groups and shape keys) from a MeshData.
+"""
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+import bpy
+
+from . import edges as edge_util
+from . import vertex_groups
+
+
+@dataclass
+class ColorLayer:
+    """A colour attribute: data is (n, 4) for domain POINT, (m, 3, 4) for CORNER."""
+
+    name: str
+    domain: str  # 'POINT' or 'CORNER'
+    data_type: str  # 'FLOAT_COLOR' or 'BYTE_COLOR'
+    data: np.ndarray
+
+
+@dataclass
+class ShapeKeyData:
+    """A shape key as offsets from the basis, plus the settings the LOD copies."""
+
+    name: str
+    offsets: np.ndarray  # (n, 3)
+    value: float = 0.0
+    slider_min: float = 0.0
+    slider_max: float = 1.0
+    mute: bool = False
+    relative_key: str = ""
+    vertex_group: str = ""
+    interpolation: str = 'KEY_LINEAR'
+
+
+@dataclass
+class MeshData:
+    """A triangulated mesh and the data it carries, all as NumPy arrays.
+
+    Per vertex: vertices (n, 3), group_weights (n, g), point colours, shape-key offsets.
+    Per triangle: faces (m, 3), material_index, smooth, smooth_group (the input's
+    smoothing region, so the LOD splits normals where the source did).
+    Per triangle corner (m, 3, k): UV maps, corner colours.
+    Edges as (k, 2) vertex pairs: sharp_edges, seam_edges.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    material_index: np.ndarray
+    smooth: np.ndarray
+    smooth_group: np.ndarray
+    uv_maps: dict = field(default_factory=dict)
+    uv_active: Optional[str] = None
+    uv_render: Optional[str] = None
+    colors: list = field(default_factory=list)
+    color_active: Optional[str] = None
+    color_render: Optional[str] = None
+    group_names: list = field(default_factory=list)
+    group_weights: Optional[np.ndarray] = None
+    basis_name: str = "Basis"
+    shape_keys: list = field(default_factory=list)
+    shape_use_relative: bool = True
+    sharp_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
+    seam_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
+
+    @property
+    def has_shape_keys(self) -> bool:
+        return bool(self.shape_keys)
+
+
+def _get(collection, prop, count, dtype, width=1):
+    out = np.empty(count * width, dtype=dtype)
+    if count:
+        collection.foreach_get(prop, out)
+    return out.reshape(-1, width) if width > 1 else out
+
+
+def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
+    """Everything :class:`MeshData` holds, read from ``mesh`` (not modified)."""
+    n = len(mesh.vertices)
+    mesh.calc_loop_triangles()
+    m = len(mesh.loop_triangles)
+    verts = _get(mesh.vertices, "co", n, np.float32, 3).astype(np.float64)
+    tris = _get(mesh.loop_triangles, "vertices", m, np.int32, 3).astype(np.int64).reshape(m, 3)
+    tri_loops = _get(mesh.loop_triangles, "loops", m, np.int32, 3).astype(np.int64).reshape(m, 3)
+    tri_poly = _get(mesh.loop_triangles, "polygon_index", m, np.int32).astype(np.int64)
+    n_poly = len(mesh.polygons)
+    poly_mat = _get(mesh.polygons, "material_index", n_poly, np.int32)
+    poly_smooth = _get(mesh.polygons, "use_smooth", n_poly, bool)
+    if n_poly:
+        # Smoothing regions bounded by sharp edges, computed in C (one int per polygon).
+        poly_group = np.asarray(mesh.calc_smooth_groups(use_bitflags=False)[0], dtype=np.int64)
+    else:
+        poly_group = np.zeros(0, dtype=np.int64)
+
+    n_loops = len(mesh.loops)
+    uv_maps = {}
+    for layer in mesh.uv_layers:
+        uv = _get(layer.uv, "vector", n_loops, np.float32, 2).astype(np.float64).reshape(n_loops, 2)
+        uv_maps[layer.name] = uv[tri_loops]
+    uv_active = mesh.uv_layers.active.name if mesh.uv_layers.active else None
+    uv_render = next((layer.name for layer in mesh.uv_layers if layer.active_render), None)
+
+    colors = []
+    for attr in mesh.color_attributes:
+        if attr.domain == 'POINT':
+            data = _get(attr.data, "color", n, np.float32, 4).astype(np.float64).reshape(n, 4)
+        elif attr.domain == 'CORNER':
+            data = _get(attr.data, "color", n_loops, np.float32, 4).astype(np.float64).reshape(n_loops, 4)[tri_loops]
+        else:  # colour attributes live on points or corners only
+            continue
+        colors.append(ColorLayer(attr.name, attr.domain, attr.data_type, data))
+
+    n_edges = len(mesh.edges)
+    edge_verts = _get(mesh.edges, "vertices", n_edges, np.int32, 2).astype(np.int64).reshape(n_edges, 2)
+    sharp_attr = mesh.attributes.get("sharp_edge")
+    if sharp_attr is not None and sharp_attr.domain == 'EDGE' and n_edges:
+        sharp = _get(sharp_attr.data, "value", n_edges, bool)
+    else:
+        sharp = np.zeros(n_edges, dtype=bool)
+    seam = _get(mesh.edges, "use_seam", n_edges, bool)
+
+    names = vertex_groups.group_names(mesh)
+    weights = vertex_groups.read_weights(mesh, names, method=group_method) if names else np.zeros((n, 0))
+
+    return MeshData(
+        vertices=verts,
+        faces=tris,
+        material_index=poly_mat[tri_poly].astype(np.int64),
+        smooth=poly_smooth[tri_poly],
+        smooth_group=poly_group[tri_poly] if len(poly_group) else np.zeros(m, np.int64),
+        uv_maps=uv_maps,
+        uv_active=uv_active,
+        uv_render=uv_render,
+        colors=colors,
+        color_active=mesh.color_attributes.active_color_name or None,
+        color_render=getattr(mesh.color_attributes, "default_color_name", None) or None,
+        group_names=names,
+        group_weights=weights,
+        sharp_edges=edge_verts[sharp],
+        seam_edges=edge_verts[seam],
+    )
+
+
+def _shape_key_meta(block, offsets) -> ShapeKeyData:
+    return ShapeKeyData(
+        name=block.name,
+        offsets=offsets,
+        value=float(block.value),
+        slider_min=float(block.slider_min),
+        slider_max=float(block.slider_max),
+        mute=bool(block.mute),
+        relative_key=block.relative_key.name if block.relative_key else "",
+        vertex_group=block.vertex_group,
+        interpolation=block.interpolation,
+    )
+
+
+def _base_shape_keys(mesh, data: MeshData) -> None:
+    key = mesh.shape_keys
+    if key is None or len(key.key_blocks) < 2:
+        return
+    n = len(mesh.vertices)
+    basis = data.vertices
+    data.basis_name = key.key_blocks[0].name
+    data.shape_use_relative = bool(key.use_relative)
+    for block in key.key_blocks[1:]:
+        co = _get(block.data, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
+        data.shape_keys.append(_shape_key_meta(block, co - basis))
+
+
+def deforming_armature_modifiers(obj) -> list:
+    """The object's enabled Armature modifiers that point at an armature."""
+    return [md for md in obj.modifiers if md.type == 'ARMATURE' and md.object is not None and md.show_viewport]
+
+
+def has_geometry_modifiers(obj) -> bool:
+    """True when the viewport modifier stack does more than skinning."""
+    return any(md.show_viewport and md.type != 'ARMATURE' for md in obj.modifiers)
+
+
+@contextlib.contextmanager
+def _rest_state(obj):
+    """Temporarily evaluate ``obj`` unposed and without shape-key mixing.
+
+    The LOD gets its own Armature modifier and shape keys, so the geometry read must be
+    the rest shape: Armature modifiers are switched off and only the basis key is shown.
+    Every switch is restored, whatever happens.
+    """
+    saved_mods = [(md, md.show_viewport) for md in obj.modifiers if md.type == 'ARMATURE']
+    saved_only = obj.show_only_shape_key
+    saved_index = obj.active_shape_key_index
+    try:
+        for md, _ in saved_mods:
+            md.show_viewport = False
+        if obj.data.shape_keys is not None:
+            obj.show_only_shape_key = True
+            obj.active_shape_key_index = 0
+        yield
+    finally:
+        for md, shown in saved_mods:
+            md.show_viewport = shown
+        obj.show_only_shape_key = saved_only
+        obj.active_shape_key_index = saved_index
+
+
+def read_object(obj: bpy.types.Object, depsgraph, use_modifiers: bool = True,
+                group_method: str = "auto") -> tuple:
+    """Read a mesh object's rest geometry. Returns (MeshData, warnings).
+
+    use_modifiers: the modifier stack as the viewport evaluates it (minus Armature
+    modifiers: the LOD is skinned again by its own); False reads the base mesh. Shape
+    keys are carried as offsets; through modifiers each key is evaluated on its own, so
+    they survive topology-changing modifiers such as Subdivision Surface.
+    """
+    warnings = []
+    if not use_modifiers or not has_geometry_modifiers(obj):
+        data = read_mesh(obj.data, group_method=group_method)
+        _base_shape_keys(obj.data, data)
+        return data, warnings
+
+    with _rest_state(obj):
+        depsgraph.update()
+        evaluated = obj.evaluated_get(depsgraph)
+        mesh = bpy.data.meshes.new_from_object(evaluated, preserve_all_data_layers=True, depsgraph=depsgraph)
+        try:
+            data = read_mesh(mesh, group_method=group_method)
+        finally:
+            bpy.data.meshes.remove(mesh)
+        key = obj.data.shape_keys
+        if key is not None and len(key.key_blocks) > 1:
+            data.basis_name = key.key_blocks[0].name
+            data.shape_use_relative = bool(key.use_relative)
+            n = len(data.vertices)
+            for index, block in enumerate(key.key_blocks):
+                if index == 0:
+                    continue
+                obj.active_shape_key_index = index
+                depsgraph.update()
+                ev_mesh = obj.evaluated_get(depsgraph).data
+                if len(ev_mesh.vertices) != n:
+                    warnings.append(f'shape key "{block.name}" dropped: the modifiers give it a different topology')
+                    continue
+                co = _get(ev_mesh.vertices, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
+                data.shape_keys.append(_shape_key_meta(block, co - data.vertices))
+    depsgraph.update()
+    return data, warnings
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
+    """A new mesh datablock (not linked to any object) from ``data``.
+
+    Vertex groups and shape keys belong to an object in Blender's API: see
+    :func:`add_vertex_groups` and :func:`add_shape_keys`.
+    """
+    v = np.ascontiguousarray(data.vertices, dtype=np.float32)
+    f = np.ascontiguousarray(data.faces, dtype=np.int32).reshape(-1, 3)
+    n, m = len(v), len(f)
+    mesh = bpy.data.meshes.new(name)
+    try:
+        mesh.vertices.add(n)
+        mesh.vertices.foreach_set("co", v.ravel())
+        mesh.loops.add(3 * m)
+        mesh.loops.foreach_set("vertex_index", f.ravel())
+        mesh.polygons.add(m)
+        mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * m, 3, dtype=np.int32))
+        mesh.update(calc_edges=True)
+
+        mesh.polygons.foreach_set("material_index", np.asarray(data.material_index, dtype=np.int32))
+        mesh.polygons.foreach_set("use_smooth", np.asarray(data.smooth, dtype=bool))
+
+        for uv_name, corners in data.uv_maps.items():
+            layer = mesh.uv_layers.new(name=uv_name, do_init=False)
+            layer.uv.foreach_set("vector", np.asarray(corners, dtype=np.float32).reshape(-1))
+        if data.uv_active in mesh.uv_layers:
+            mesh.uv_layers.active = mesh.uv_layers[data.uv_active]
+        if data.uv_render in mesh.uv_layers:
+            mesh.uv_layers[data.uv_render].active_render = True
+
+        for layer in data.colors:
+            attr = mesh.color_attributes.new(layer.name, layer.data_type, layer.domain)
+            attr.data.foreach_set("color", np.asarray(layer.data, dtype=np.float32).reshape(-1))
+        if data.color_active and data.color_active in mesh.color_attributes:
+            mesh.color_attributes.active_color_name = data.color_active
+        if data.color_render and data.color_render in mesh.color_attributes and hasattr(
+                mesh.color_attributes, "default_color_name"):
+            mesh.color_attributes.default_color_name = data.color_render
+
+        n_edges = len(mesh.edges)
+        edge_verts = _get(mesh.edges, "vertices", n_edges, np.int32, 2).reshape(n_edges, 2)
+        if len(data.sharp_edges):
+            sharp = edge_util.mark_edges(edge_verts, data.sharp_edges, n)
+            if sharp.any():
+                attr = mesh.attributes.new("sharp_edge", 'BOOLEAN', 'EDGE')
+                attr.data.foreach_set("value", sharp)
+        if len(data.seam_edges):
+            mesh.edges.foreach_set("use_seam", edge_util.mark_edges(edge_verts, data.seam_edges, n))
+        mesh.update()
+    except Exception:
+        bpy.data.meshes.remove(mesh)
+        raise
+    return mesh
+
+
+def add_vertex_groups(obj: bpy.types.Object, data: MeshData) -> None:
+    if data.group_names:
+        vertex_groups.write_weights(obj, data.group_names, data.group_weights)
+
+
+def add_shape_keys(obj: bpy.types.Object, data: MeshData) -> None:
+    """Shape keys on ``obj`` (a new object): the basis is the mesh, each key basis + offsets."""
+    if not data.shape_keys:
+        return
+    basis = obj.shape_key_add(name=data.basis_name, from_mix=False)
+    key = obj.data.shape_keys
+    key.use_relative = data.shape_use_relative
+    base = np.asarray(data.vertices, dtype=np.float64)
+    blocks = {basis.name: basis}
+    for sk in data.shape_keys:
+        block = obj.shape_key_add(name=sk.name, from_mix=False)
+        block.data.foreach_set("co", (base + sk.offsets).astype(np.float32).ravel())
+        block.interpolation = sk.interpolation
+        block.vertex_group = sk.vertex_group
+        block.mute = sk.mute
+        block.slider_min = sk.slider_min
+        block.slider_max = sk.slider_max
+        block.value = sk.value
+        blocks[sk.name] = block
+    for sk in data.shape_keys:
+        if sk.relative_key in blocks:
+            blocks[sk.name].relative_key = blocks[sk.relative_key]

@@ -1,0 +1,280 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The add-on's operators: Generate LODs, Paint Importance, Importance from Armature.
+
+Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
+a Python traceback; unexpected errors are printed to the console for bug reports.
+"""
+from __future__ import annotations
+
+import json
+import traceback
+
+import numpy as np
+
+import bpy
+
+from . import lod, vertex_groups
+from .job import LodJob
+from .lod import LodCancelled, LodError, LodSettings
+from .props import settings_properties
+
+IMPORTANCE_GROUP = "LOD_Importance"
+_PROGRESS_STEPS = 1000
+# Events a running generation lets through: looking around changes no data.
+_NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',
+               'NDOF_MOTION', 'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE'}
+
+
+def scene_settings(context):
+    return getattr(context.scene, "line_quadric_lod", None)
+
+
+def selected_meshes(context) -> list:
+    return [ob for ob in context.selected_objects if ob.type == 'MESH']
+
+
+def _generate_blocker(context):
+    """Why Generate LODs cannot run in this context, or None."""
+    if context.mode != 'OBJECT':
+        return "Switch to Object Mode to generate LODs"
+    if not selected_meshes(context):
+        return "Select one or more mesh objects"
+    return None
+
+
+def _summary(reports) -> str:
+    parts = []
+    for rep in reports:
+        counts = " / ".join(f"{lv['triangles']:,}" for lv in rep["levels"])
+        parts.append(f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) in {rep['seconds']:.1f} s")
+    return "; ".join(parts)
+
+
+class OBJECT_OT_line_quadric_lod(bpy.types.Operator):
+    """Make a chain of LODs of every selected mesh object (line-quadric simplification)"""
+
+    bl_idname = "object.line_quadric_lod"
+    bl_label = "Generate LODs"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    __annotations__ = settings_properties()
+
+    _job = None
+    _timer = None
+
+    @classmethod
+    def poll(cls, context):
+        blocker = _generate_blocker(context)
+        if blocker:
+            cls.poll_message_set(blocker)
+            return False
+        return True
+
+    def _settings(self) -> LodSettings:
+        return LodSettings.from_properties(self)
+
+    def invoke(self, context, event):
+        # Started from the panel: take the panel's settings, except any the caller set.
+        panel = scene_settings(context)
+        if panel is not None:
+            for name in LodSettings.names():
+                if not self.properties.is_property_set(name):
+                    setattr(self, name, getattr(panel, name))
+        if bpy.app.background or context.window is None:
+            return self.execute(context)  # no event loop to drive a modal run
+        blocker = _generate_blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        try:
+            self._job = LodJob(context, selected_meshes(context), self._settings())
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except Exception as ex:
+            return self._unexpected(ex)
+        self._job.start()
+        wm = context.window_manager
+        wm.progress_begin(0, _PROGRESS_STEPS)
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        context.workspace.status_text_set("Generating LODs: Esc to cancel")
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        job = self._job
+        if event.type == 'ESC' and event.value == 'PRESS':
+            job.cancel()
+            job.wait()
+            self._end_modal(context)
+            self.report({'WARNING'}, "LOD generation cancelled: nothing was changed")
+            return {'CANCELLED'}
+        if event.type == 'TIMER':
+            context.window_manager.progress_update(int(job.fraction * _PROGRESS_STEPS))
+            context.workspace.status_text_set(f"Generating LODs {job.fraction:.0%}: Esc to cancel")
+            if job.done:
+                self._end_modal(context)
+                return self._commit(context, job)
+        if event.type in _NAVIGATION:
+            return {'PASS_THROUGH'}
+        return {'RUNNING_MODAL'}
+
+    def _end_modal(self, context):
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+
+    def cancel(self, context):
+        # Blender ends a modal operator this way when its window closes.
+        if self._job is not None:
+            self._job.cancel()
+            self._job.wait()
+        self._end_modal(context)
+
+    def execute(self, context):
+        blocker = _generate_blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        wm = context.window_manager
+        wm.progress_begin(0, _PROGRESS_STEPS)
+        try:
+            job = LodJob(context, selected_meshes(context), self._settings())
+            job.run(progress=lambda f: wm.progress_update(int(f * _PROGRESS_STEPS)))
+            return self._commit(context, job)
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except LodCancelled:
+            self.report({'WARNING'}, "LOD generation cancelled: nothing was changed")
+            return {'CANCELLED'}
+        except Exception as ex:
+            return self._unexpected(ex)
+        finally:
+            wm.progress_end()
+
+    def _commit(self, context, job):
+        try:
+            reports = job.commit(context)
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except LodCancelled:
+            self.report({'WARNING'}, "LOD generation cancelled: nothing was changed")
+            return {'CANCELLED'}
+        except Exception as ex:
+            return self._unexpected(ex)
+        panel = scene_settings(context)
+        if panel is not None:
+            panel.last_report = json.dumps(reports)
+        for rep in reports:
+            for warning in rep["warnings"]:
+                self.report({'WARNING'}, f"{rep['object']}: {warning}")
+        self.report({'INFO'}, _summary(reports))
+        return {'FINISHED'}
+
+    def _unexpected(self, ex):
+        traceback.print_exc()
+        self.report({'ERROR'}, f"LOD generation failed unexpectedly ({type(ex).__name__}: {ex}); "
+                               f"details in the system console")
+        return {'CANCELLED'}
+
+
+def _importance_blocker(context):
+    ob = context.active_object
+    if ob is None or ob.type != 'MESH':
+        return "Make a mesh object active"
+    if context.mode not in ('OBJECT', 'PAINT_WEIGHT'):
+        return "Switch to Object Mode or Weight Paint mode first"
+    return None
+
+
+def _use_importance_group(context, ob, group):
+    ob.vertex_groups.active_index = group.index
+    panel = scene_settings(context)
+    if panel is not None:
+        panel.importance_source = 'VERTEX_GROUP'
+        panel.importance_group = group.name
+
+
+class OBJECT_OT_line_quadric_lod_paint(bpy.types.Operator):
+    """Paint where detail matters: creates (or reuses) the vertex group "LOD_Importance" and enters Weight Paint mode on it"""
+
+    bl_idname = "object.line_quadric_lod_paint"
+    bl_label = "Paint Importance"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        blocker = _importance_blocker(context)
+        if blocker:
+            cls.poll_message_set(blocker)
+            return False
+        return True
+
+    def execute(self, context):
+        blocker = _importance_blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        ob = context.active_object
+        group = ob.vertex_groups.get(IMPORTANCE_GROUP) or ob.vertex_groups.new(name=IMPORTANCE_GROUP)
+        _use_importance_group(context, ob, group)
+        if ob.mode != 'WEIGHT_PAINT':
+            try:
+                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            except RuntimeError as ex:
+                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
+                return {'CANCELLED'}
+        self.report({'INFO'}, f'Painting "{IMPORTANCE_GROUP}": weight 1 = keep most detail')
+        return {'FINISHED'}
+
+
+class OBJECT_OT_line_quadric_lod_from_armature(bpy.types.Operator):
+    """Bake importance from the skin weights into the vertex group "LOD_Importance" (paper Sec. 5.3: vertices near joints matter), so it can be seen and repainted"""
+
+    bl_idname = "object.line_quadric_lod_from_armature"
+    bl_label = "Importance from Armature"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        blocker = _importance_blocker(context)
+        if blocker:
+            cls.poll_message_set(blocker)
+            return False
+        return True
+
+    def execute(self, context):
+        blocker = _importance_blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        ob = context.active_object
+        try:
+            names = vertex_groups.group_names(ob.data)
+            weights = vertex_groups.read_weights(ob.data, names)
+            g = lod.skin_importance_of(ob, names, weights)
+            vertex_groups.write_weights(ob, [IMPORTANCE_GROUP], g[:, None])
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except Exception as ex:
+            traceback.print_exc()
+            self.report({'ERROR'}, f"Importance from Armature failed ({type(ex).__name__}: {ex})")
+            return {'CANCELLED'}
+        _use_importance_group(context, ob, ob.vertex_groups[IMPORTANCE_GROUP])
+        joints = int(np.count_nonzero(g > 0))
+        self.report({'INFO'}, f'"{IMPORTANCE_GROUP}": importance from the skin weights on {joints:,} of '
+                              f'{len(g):,} vertices (1 = w 0.1, the paper\'s cap)')
+        return {'FINISHED'}
+
+
+classes = (
+    OBJECT_OT_line_quadric_lod,
+    OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_from_armature,
+)

@@ -1,0 +1,117 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The sidebar panel (View3D > Sidebar > LOD), laid out in workflow order:
+Target, Uniformity, Importance, Preserve, Generate, then the last run's report."""
+from __future__ import annotations
+
+import bpy
+
+from .operators import (
+    OBJECT_OT_line_quadric_lod,
+    OBJECT_OT_line_quadric_lod_from_armature,
+    OBJECT_OT_line_quadric_lod_paint,
+)
+
+_PRESERVE = (
+    ("preserve_boundaries", "boundary_strength"),
+    ("preserve_seams", "seam_strength"),
+    ("preserve_sharp", "sharp_strength"),
+    ("preserve_materials", "material_strength"),
+)
+
+
+def chain_preview(settings) -> str:
+    """What the Target settings will make, e.g. "50% · 25% · 12.5%"."""
+    if settings.target_triangles > 0:
+        counts = [round(settings.target_triangles * settings.level_factor ** k) for k in range(settings.levels)]
+        return " · ".join(f"{c:,}" for c in counts) + " triangles"
+    return " · ".join(f"{100 * settings.ratio * settings.level_factor ** k:.3g}%" for k in range(settings.levels))
+
+
+class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
+    bl_label = "Line Quadric LOD"
+    bl_idname = "VIEW3D_PT_line_quadric_lod"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "LOD"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.line_quadric_lod
+        ob = context.active_object
+        is_mesh = ob is not None and ob.type == 'MESH'
+        if not is_mesh:
+            layout.label(text="Select a mesh object", icon='INFO')
+
+        box = layout.box()
+        box.label(text="Target", icon='MOD_DECIM')
+        col = box.column(align=True)
+        col.prop(settings, "target_triangles")
+        row = col.row(align=True)
+        row.active = settings.target_triangles == 0
+        row.prop(settings, "ratio")
+        col.prop(settings, "levels")
+        col.prop(settings, "level_factor")
+        box.label(text="LOD1..%d: %s" % (settings.levels, chain_preview(settings)))
+
+        box = layout.box()
+        box.label(text="Uniformity", icon='MESH_GRID')
+        box.prop(settings, "line_weight")
+
+        box = layout.box()
+        box.label(text="Importance", icon='WPAINT_HLT')
+        box.prop(settings, "importance_source", text="Source")
+        if settings.importance_source == 'VERTEX_GROUP':
+            if is_mesh:
+                box.prop_search(settings, "importance_group", ob, "vertex_groups", text="Group")
+                if settings.importance_group and settings.importance_group not in ob.vertex_groups:
+                    box.label(text=f'"{ob.name}" has no group "{settings.importance_group}"', icon='ERROR')
+            else:
+                box.prop(settings, "importance_group", text="Group")
+        if settings.importance_source != 'NONE':
+            row = box.row(align=True)
+            row.prop(settings, "importance_mode", expand=True)
+            box.prop(settings, "importance_strength")
+        row = box.row(align=True)
+        row.operator(OBJECT_OT_line_quadric_lod_paint.bl_idname, icon='BRUSH_DATA')
+        row.operator(OBJECT_OT_line_quadric_lod_from_armature.bl_idname, icon='ARMATURE_DATA')
+
+        box = layout.box()
+        box.label(text="Preserve", icon='LOCKED')
+        col = box.column(align=True)
+        for flag, strength in _PRESERVE:
+            row = col.row(align=True)
+            row.prop(settings, flag)
+            sub = row.row(align=True)
+            sub.active = getattr(settings, flag)
+            sub.prop(settings, strength, text="")
+
+        col = layout.column(align=True)
+        col.prop(settings, "use_modifiers")
+        col.prop(settings, "measure_deviation")
+        layout.operator(OBJECT_OT_line_quadric_lod.bl_idname, icon='MOD_DECIM')
+
+        self.draw_report(layout, settings)
+
+    @staticmethod
+    def draw_report(layout, settings):
+        reports = settings.report_list()
+        if not reports:
+            return
+        box = layout.box()
+        box.label(text="Last Run", icon='INFO')
+        for rep in reports:
+            box.label(text=f"{rep['object']}: {rep['source_triangles']:,} triangles, {rep['seconds']:.2f} s")
+            grid = box.grid_flow(row_major=True, columns=5, even_columns=False, align=True)
+            for title in ("LOD", "Triangles", "Max %", "Mean %", "Quality"):
+                grid.label(text=title)
+            for level in rep["levels"]:
+                grid.label(text=f"LOD{level['level']}")
+                grid.label(text=f"{level['triangles']:,}")
+                grid.label(text=f"{level['hausdorff_percent']:.3f}" if "hausdorff_percent" in level else "-")
+                grid.label(text=f"{level['mean_percent']:.4f}" if "mean_percent" in level else "-")
+                grid.label(text=f"{level['mean_quality']:.2f}")
+            for warning in rep.get("warnings", []):
+                box.label(text=warning, icon='ERROR')
+
+
+classes = (VIEW3D_PT_line_quadric_lod,)
