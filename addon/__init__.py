@@ -6,8 +6,9 @@ Modules (one idea each):
     edges           edge bookkeeping in plain NumPy (feature edges, sharp edges, seams)
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
+    settings        LodSettings, LodError, LodCancelled (no bpy: the command line parses into them)
     importance      what the Importance settings mean as core parameters
-    lod             LodSettings and generate_lods(): read, simplify, write, link (no UI)
+    lod             generate_lods(): read, simplify, write, link (no UI)
     job             a LOD run whose simplification can go to a worker thread (Esc cancel)
     props           the settings as Blender properties (operator and scene share them)
     operators       Generate LODs, Paint Importance, Importance from Armature
@@ -15,7 +16,7 @@ Modules (one idea each):
     measure         surface deviation and the LOD report numbers
 
 The submodules that need bpy are imported inside register(), so the pure-NumPy parts
-(edges, importance) import without Blender.
+(edges, settings, importance) import without Blender.
 """
 
 _classes = []

@@ -311,7 +311,7 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
             mesh.edges.foreach_set("use_seam", edge_util.mark_edges(edge_verts, data.seam_edges, n))
         mesh.update()
     except Exception:
-        bpy.data.meshes.remove(mesh)
+        vertex_groups.remove_mesh(mesh)
         raise
     return mesh
 

@@ -12,7 +12,7 @@ import json
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from .lod import LodSettings
+from .settings import LodSettings
 
 IMPORTANCE_SOURCES = [
     ('NONE', "None", "Every vertex counts the same"),

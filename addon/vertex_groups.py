@@ -93,7 +93,7 @@ def _read_via_nodes(mesh, names) -> np.ndarray:
     try:
         if tmp_mesh.shape_keys is not None:
             # Modifiers cannot be applied to a mesh with shape keys; the copy does not need them.
-            tmp_obj.shape_key_clear()
+            remove_shape_keys(tmp_mesh)
         tree = _store_groups_tree(names)
         mod = tmp_obj.modifiers.new(_TMP_PREFIX + "mod", 'NODES')
         mod.node_group = tree
@@ -110,9 +110,23 @@ def _read_via_nodes(mesh, names) -> np.ndarray:
         return out.T.astype(np.float64)
     finally:
         bpy.data.objects.remove(tmp_obj)
-        bpy.data.meshes.remove(tmp_mesh)
+        remove_mesh(tmp_mesh)
         if tree is not None:
             bpy.data.node_groups.remove(tree)
+
+
+def remove_shape_keys(mesh) -> None:
+    """Delete the mesh's Key datablock. (Object.shape_key_clear on an object that is not
+    in a scene detaches the Key but leaves it in bpy.data, and removing a mesh can leave
+    its Key behind, which Blender then reports as broken at the next load.)"""
+    if mesh.shape_keys is not None:
+        bpy.data.batch_remove([mesh.shape_keys])
+
+
+def remove_mesh(mesh) -> None:
+    """Remove a mesh datablock and its shape keys."""
+    remove_shape_keys(mesh)
+    bpy.data.meshes.remove(mesh)
 
 
 def _store_groups_tree(names):

@@ -1,0 +1,106 @@
+"""The add-on's bpy-free parts: edge bookkeeping, importance mapping, settings checks."""
+import numpy as np
+import pytest
+
+from addon import edges, importance
+from addon.settings import LodError, LodSettings
+
+
+def grid(n):
+    """(n+1)^2 vertices, 2 n^2 triangles on the unit square."""
+    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    v = np.c_[x.ravel(), y.ravel(), np.zeros((n + 1) ** 2)]
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    return v, np.r_[np.c_[a, b, c], np.c_[a, c, d]]
+
+
+def test_adjacent_pairs_counts_interior_edges():
+    v, f = grid(3)
+    e, fa, fb = edges.adjacent_triangle_pairs(f)
+    # Every interior edge has two half-edges, each of the 12 boundary edges one.
+    total = (3 * len(f) + 12) // 2
+    assert len(e) == total - 12
+    shared = [set(f[i]) & set(f[j]) for i, j in zip(fa, fb)]
+    assert all(len(s) == 2 and s == set(ed) for s, ed in zip(shared, e))
+
+
+def test_differing_edges_is_the_material_border():
+    v, f = grid(4)
+    centroid_x = v[f].mean(axis=1)[:, 0]
+    mat = (centroid_x > 0.5).astype(int)
+    border = edges.differing_edges(f, mat)
+    # The border is the vertical line x = 0.5: 4 edges, both ends on it.
+    assert len(border) == 4
+    assert np.allclose(v[border][:, :, 0], 0.5)
+
+
+def test_corner_discontinuous_edges_finds_the_seam_only():
+    v, f = grid(4)
+    uv = v[f][:, :, :2].copy()
+    right = v[f].mean(axis=1)[:, 0] > 0.5
+    uv[right] += [2.0, 0.0]  # the right half is a separate UV island
+    seam = edges.corner_discontinuous_edges(f, uv)
+    assert len(seam) == 4 and np.allclose(v[seam][:, :, 0], 0.5)
+    assert len(edges.corner_discontinuous_edges(f, v[f][:, :, :2])) == 0
+
+
+def test_merge_keeps_largest_weight_and_each_edge_once():
+    e, w = edges.merge_weighted_edges([(np.array([[0, 1], [2, 3]]), 1.0), (np.array([[1, 0], [4, 5]]), 5.0)])
+    got = {tuple(p): x for p, x in zip(e.tolist(), w.tolist())}
+    assert got == {(0, 1): 5.0, (2, 3): 1.0, (4, 5): 5.0}
+
+
+def test_mark_edges():
+    mesh_edges = np.array([[0, 1], [1, 2], [2, 0]])
+    assert edges.mark_edges(mesh_edges, np.array([[2, 1]]), 3).tolist() == [False, True, False]
+    assert edges.mark_edges(mesh_edges, np.empty((0, 2)), 3).tolist() == [False] * 3
+
+
+def test_soft_importance_strength_one_is_the_papers_maximum():
+    g = np.array([0.0, 0.5, 1.0])
+    c = importance.controls(g, 1e-3, 1.0, 'SOFT')
+    assert np.allclose(c["vertex_weights"], [1e-3, 1e-3 + 0.05, 1e-3 + 0.1])
+    assert "importance" not in c
+    assert np.allclose(importance.controls(g, 1e-3, 0.0, 'SOFT')["vertex_weights"], 1e-3)
+
+
+def test_strong_importance_is_exponential_in_strength():
+    g = np.array([0.0, 1.0])
+    at = {s: importance.controls(g, 1e-3, s, 'STRONG')["importance"] for s in (0.0, 0.5, 1.0)}
+    assert np.allclose(at[0.0], 0.0)
+    assert np.isclose(at[1.0][1], 999.0)
+    assert np.isclose(1 + at[0.5][1], np.sqrt(1000.0))  # equal steps multiply alike
+    assert at[1.0][0] == 0.0  # unpainted vertices are never scaled
+    assert np.allclose(importance.controls(g, 1e-3, 0.0, 'STRONG')["vertex_weights"], 1e-3)
+
+
+def test_skin_importance_is_the_papers_formula_over_its_cap():
+    skin = np.array([[1.0, 0.0], [0.5, 0.5], [0.8, 0.2], [0.0, 0.0]])
+    got = importance.skin_importance(skin)
+    expected = np.minimum(0.15 * (1 - skin.max(axis=1)), 0.1) / 0.1
+    assert np.allclose(got, expected)
+    assert got.min() >= 0 and got.max() <= 1
+
+
+def test_targets_chain_and_errors():
+    assert LodSettings(ratio=0.5, levels=3, level_factor=0.5).targets(1000) == [500, 250, 125]
+    assert LodSettings(target_triangles=300, levels=2, level_factor=0.5).targets(1000) == [300, 150]
+    with pytest.raises(LodError, match="not smaller than the mesh"):
+        LodSettings(ratio=1.0).targets(1000)
+    with pytest.raises(LodError, match="not smaller than the mesh"):
+        LodSettings(target_triangles=1000).targets(1000)
+    with pytest.raises(LodError, match="fewer levels"):
+        LodSettings(ratio=0.01, levels=8, level_factor=0.5).targets(200)
+
+
+@pytest.mark.parametrize("field,value,message", [
+    ("importance_source", "BONES", "importance source"),
+    ("importance_mode", "HARD", "importance mode"),
+    ("levels", 0, "levels"),
+    ("level_factor", 1.0, "level factor"),
+    ("line_weight", -1.0, "line weight"),
+])
+def test_validate_rejects_bad_values(field, value, message):
+    with pytest.raises(LodError, match=message):
+        LodSettings(**{field: value}).validate()
