@@ -78,7 +78,7 @@ def _still_rejected(s, conn, a, b) -> np.ndarray:
     return found & (last_change < s.rejected_pass[pos])
 
 
-def independent_set(cand: Candidates, conn, F, n, rng, eligible=None) -> np.ndarray:
+def independent_set(cand: Candidates, conn, F, n, seed, eligible=None) -> np.ndarray:
     """Indices into ``cand`` of edges cheapest among all eligible candidate edges
     touching the faces around both their ends.
 
@@ -88,24 +88,30 @@ def independent_set(cand: Candidates, conn, F, n, rng, eligible=None) -> np.ndar
     cheapest-first order. ``eligible`` (len(cand),) bool restricts the choice.
     """
     idx = np.arange(len(cand.edge)) if eligible is None else np.flatnonzero(eligible)
-    cost = cand.cost[idx]
-    k = len(idx)
-    if rng is None:
-        order = np.argsort(cost)
-    else:  # the seed decides between equal costs
-        perm = rng.permutation(k)
-        order = perm[np.argsort(cost[perm])]
     edges = cand.edge[idx]
     rank = np.full(len(conn.edges), _NO_RANK, dtype=np.int64)
-    rank[edges[order]] = np.arange(k)
+    rank[edges] = order_keys(cand.cost[idx], edges, seed)
     side_rank = rank[conn.face_edges]
     # Corner s of a face starts side s and ends side s-1: both are edges at its vertex.
     corner_min = np.minimum(side_rank, side_rank[:, [2, 0, 1]]).ravel()
-    cheapest_at_vertex = topology.min_per_vertex(conn, corner_min, n, _NO_RANK)
+    cheapest_at_vertex = topology.min_per_vertex(F, corner_min, n, _NO_RANK)
     cheapest_near_face = cheapest_at_vertex[F].min(axis=1)
-    cheapest_in_ring = topology.min_per_vertex(conn, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
+    cheapest_in_ring = topology.min_per_vertex(F, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
     mine = rank[edges]
     return idx[(mine == cheapest_in_ring[cand.keep[idx]]) & (mine == cheapest_in_ring[cand.remove[idx]])]
+
+
+def order_keys(cost: np.ndarray, edges: np.ndarray, seed: int) -> np.ndarray:
+    """Distinct int64 keys ordered like ``cost``, without sorting.
+
+    The bits of a non-negative float32 grow with its value, so they make the high half of
+    the key (costs within float32 precision of each other are taken as equal); the low
+    half, a bijective scramble of the edge index by the seed, breaks ties and makes every
+    key distinct - which the local-minimum selection relies on.
+    """
+    high = np.minimum(cost, np.finfo(np.float32).max).astype(np.float32).view(np.int32).astype(np.int64)
+    low = (edges.astype(np.uint64) * np.uint64(0x9E3779B1) + np.uint64(seed)) & np.uint64(0xFFFFFFFF)
+    return (high << np.int64(32)) | low.astype(np.int64)
 
 
 def closed_rings(conn, F, vertices, n) -> np.ndarray:

@@ -17,9 +17,9 @@ class Connectivity:
 
     edges: (k, 2) int64 with edges[:, 0] < edges[:, 1]; edge_faces: (k,) number of faces
     on each edge (1 boundary, 2 interior, more non-manifold); face_edges: (m, 3) the edge
-    of each face side (side s joins corners s and s+1); edge_first_face / edge_second_face
-    and their opposite corners' vertices (-1 where missing); corner_order / corner_start:
-    the corners (flat indices f*3+s) grouped by vertex, for per-vertex reductions.
+    of each face side (side s joins corners s and s+1); edge_face0 / edge_face1 and
+    their opposite corners' vertices (-1 where missing); half_edge_order: the half-edges
+    sorted by edge key, which the next pass reuses as a nearly sorted starting order.
     """
 
     edges: np.ndarray
@@ -32,19 +32,23 @@ class Connectivity:
     edge_opposite1: np.ndarray
     edge_he0: np.ndarray  # a half-edge (flat corner index f*3+s) of each edge
     edge_he1: np.ndarray  # the other half-edge of an interior edge, else -1
-    corner_order: np.ndarray
-    corner_start: np.ndarray
-    corner_vertices: np.ndarray  # the vertex of each group in corner_start (sorted)
+    half_edge_order: np.ndarray
 
 
-def build(faces: np.ndarray, n_vertices: int) -> Connectivity:
+def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
+    """Connectivity of ``faces``. order_hint: a permutation of the half-edges that is
+    already nearly sorted by edge key (the previous pass's order carried over): a stable
+    sort finishes it several times faster than sorting from scratch."""
     m = len(faces)
     a = faces.ravel()
     b = faces[:, [1, 2, 0]].ravel()
     lo = np.minimum(a, b)
     hi = np.maximum(a, b)
     keys = lo * np.int64(n_vertices) + hi
-    order = np.argsort(keys)
+    if order_hint is None:
+        order = np.argsort(keys)
+    else:
+        order = order_hint[np.argsort(keys[order_hint], kind="stable")]
     sorted_keys = keys[order]
     new_group = np.empty(len(sorted_keys), dtype=bool)
     new_group[:1] = True
@@ -70,13 +74,6 @@ def build(faces: np.ndarray, n_vertices: int) -> Connectivity:
     face1 = np.full(len(group_start), -1, dtype=np.int64)
     face1[has_second] = s // 3
 
-    corner_order = np.argsort(flat_faces, kind="stable")
-    sorted_vertices = flat_faces[corner_order]
-    starts_mask = np.empty(len(sorted_vertices), dtype=bool)
-    starts_mask[:1] = True
-    np.not_equal(sorted_vertices[1:], sorted_vertices[:-1], out=starts_mask[1:])
-    corner_start = np.flatnonzero(starts_mask)
-
     return Connectivity(
         edges=edges,
         edge_keys=edge_keys,
@@ -88,18 +85,23 @@ def build(faces: np.ndarray, n_vertices: int) -> Connectivity:
         edge_opposite1=opp1,
         edge_he0=first_he,
         edge_he1=second_he,
-        corner_order=corner_order,
-        corner_start=corner_start,
-        corner_vertices=sorted_vertices[corner_start],
+        half_edge_order=order,
     )
 
 
-def min_per_vertex(conn: Connectivity, corner_values: np.ndarray, n_vertices: int, fill) -> np.ndarray:
+def min_per_vertex(faces: np.ndarray, corner_values: np.ndarray, n_vertices: int, fill) -> np.ndarray:
     """Minimum of a per-corner value (3m,) over each vertex's corners; ``fill`` where none."""
     out = np.full(n_vertices, fill, dtype=corner_values.dtype)
-    if len(conn.corner_order):
-        out[conn.corner_vertices] = np.minimum.reduceat(corner_values[conn.corner_order], conn.corner_start)
+    np.minimum.at(out, faces.ravel(), corner_values)
     return out
+
+
+def carry_order(order: np.ndarray, alive_faces: np.ndarray) -> np.ndarray:
+    """The half-edge order of the previous pass, renumbered after dead faces are dropped."""
+    alive_he = np.repeat(alive_faces, 3)
+    new_index = np.cumsum(alive_he) - 1
+    kept = order[alive_he[order]]
+    return new_index[kept]
 
 
 def vertex_degrees(conn: Connectivity, n_vertices: int) -> np.ndarray:
@@ -112,16 +114,12 @@ def next_corner(corner: np.ndarray) -> np.ndarray:
     return corner - corner % 3 + (corner % 3 + 1) % 3
 
 
-def gather_vertex_corners(conn: Connectivity, vertices: np.ndarray, n_vertices: int) -> tuple:
-    """All corners of each of ``vertices`` (k,). Returns (owner (c,), corners (c,)):
-    owner[i] is the position in ``vertices`` whose corner corners[i] is."""
-    group_of = np.full(n_vertices, -1, dtype=np.int64)
-    group_of[conn.corner_vertices] = np.arange(len(conn.corner_vertices))
-    g = group_of[vertices]
-    has = g >= 0
-    ends = np.append(conn.corner_start, len(conn.corner_order))
-    starts = np.where(has, conn.corner_start[np.maximum(g, 0)], 0)
-    counts = np.where(has, ends[np.maximum(g, 0) + 1] - starts, 0)
-    owner = np.repeat(np.arange(len(vertices)), counts)
-    offsets = np.arange(len(owner)) - np.repeat(np.cumsum(counts) - counts, counts)
-    return owner, conn.corner_order[np.repeat(starts, counts) + offsets]
+def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> tuple:
+    """All corners of each of ``vertices`` (k,), distinct. Returns (owner (c,), corners (c,)):
+    owner[i] is the position in ``vertices`` whose corner corners[i] is (flat f*3+s).
+    One scan over all corners: cheaper than keeping a vertex-to-corner index up to date."""
+    owner_of = np.full(n_vertices, -1, dtype=np.int64)
+    owner_of[vertices] = np.arange(len(vertices))
+    per_corner = owner_of[faces.ravel()]
+    corners = np.flatnonzero(per_corner >= 0)
+    return per_corner[corners], corners

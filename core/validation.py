@@ -26,7 +26,7 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
         return np.zeros(0, dtype=bool)
     n = len(s.V)
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
-    owner, corners = topology.gather_vertex_corners(conn, np.concatenate([keep, remove]), n)
+    owner, corners = topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n)
     from_keep = owner < c
     collapse = np.where(from_keep, owner, owner - c)
     faces = corners // 3
