@@ -215,6 +215,9 @@ class State:
     rejected_pass: np.ndarray
     area_scale: float = 1.0
     half_edge_order: object = None  # carried to the next pass's connectivity sort
+    cost_cache: object = None  # (edge keys, keep, position, cost) of the last pass
+    changed: object = None  # (n,) vertices whose quadric, position or kind changed
+    kind: object = None  # last pass's vertex kinds
     max_error_seen: float = 0.0
 
 
@@ -237,6 +240,7 @@ def run(p: Problem) -> list:
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
         rejected_keys=np.zeros(0, dtype=np.int64), rejected_pass=np.zeros(0, dtype=np.int64),
         half_edge_order=conn.half_edge_order,
+        changed=np.zeros(n, dtype=bool),
     )
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
@@ -269,6 +273,9 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     n = len(s.V)
     conn = topology.build(s.F, n, s.half_edge_order)
     kind = _classify(s, conn, n, preserve_seams)
+    if s.kind is not None:
+        s.changed |= kind != s.kind
+    s.kind = kind
     cand = selection.candidates(s, conn, kind, pass_no)
     if len(cand.edge) == 0:
         return STOP_NO_COLLAPSE
@@ -373,6 +380,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
     if s.wedges is not None:
         s.wedges.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
+    s.changed = np.zeros(len(s.V), dtype=bool)
+    s.changed[keep] = True
     s.V[keep] = pos
     s.Q[keep] += s.Q[remove]
     s.area[keep] += s.area[remove]
@@ -387,7 +396,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         s.wedges.keep_faces(alive)
     is_keep = np.zeros(len(s.V), dtype=bool)
     is_keep[keep] = True
-    around = is_keep[s.F].any(axis=1)
+    around = topology.any_corner(is_keep, s.F)
     s.touched[s.F[around].ravel()] = pass_no
 
 

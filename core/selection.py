@@ -53,18 +53,38 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     idx = np.flatnonzero(ok)
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
+    keys = conn.edge_keys[idx]
+
+    # Reuse last pass's position and cost where neither end changed (quadric, position
+    # or kind): most of the mesh is untouched by any one pass.
+    position = np.empty((len(idx), 3))
+    cost = np.empty(len(idx))
+    fresh = np.ones(len(idx), dtype=bool)
+    cache = s.cost_cache
+    if cache is not None and len(cache[0]):
+        ckeys, ckeep, cpos, ccost = cache
+        at = np.minimum(np.searchsorted(ckeys, keys), len(ckeys) - 1)
+        reuse = (ckeys[at] == keys) & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
+        position[reuse] = cpos[at[reuse]]
+        cost[reuse] = ccost[at[reuse]]
+        fresh = ~reuse
+    if fresh.any():
+        position[fresh], cost[fresh] = _optimal(s, keep[fresh], remove[fresh], k_keep[fresh], k_remove[fresh])
+    s.cost_cache = (keys, keep, position, cost)
+    return Candidates(idx, keep, remove, position, cost)
+
+
+def _optimal(s, keep, remove, k_keep, k_remove):
+    """Position and quadric error of collapsing each remove into its keep."""
     q = s.Q[keep] + s.Q[remove]
     v_keep, v_remove = s.V[keep], s.V[remove]
-
-    midpoint = 0.5 * (v_keep + v_remove)
-    position = quadrics.minimize(q, midpoint, s.area_scale)
+    position = quadrics.minimize(q, 0.5 * (v_keep + v_remove), s.area_scale)
     fixed = (k_keep == LOCKED) | ((k_keep == SEAM) & (k_remove == FREE))
     position[fixed] = v_keep[fixed]
     along_seam = (k_keep == SEAM) & (k_remove == SEAM)
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
-    cost = quadrics.evaluate(q, position)
-    return Candidates(idx, keep, remove, position, cost)
+    return position, quadrics.evaluate(q, position)
 
 
 def _still_rejected(s, conn, a, b) -> np.ndarray:
@@ -95,7 +115,7 @@ def independent_set(cand: Candidates, conn, F, n, seed, eligible=None) -> np.nda
     # Corner s of a face starts side s and ends side s-1: both are edges at its vertex.
     corner_min = np.minimum(side_rank, side_rank[:, [2, 0, 1]]).ravel()
     cheapest_at_vertex = topology.min_per_vertex(F, corner_min, n, _NO_RANK)
-    cheapest_near_face = cheapest_at_vertex[F].min(axis=1)
+    cheapest_near_face = topology.min_corner(cheapest_at_vertex, F)
     cheapest_in_ring = topology.min_per_vertex(F, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
     mine = rank[edges]
     return idx[(mine == cheapest_in_ring[cand.keep[idx]]) & (mine == cheapest_in_ring[cand.remove[idx]])]
@@ -118,6 +138,6 @@ def closed_rings(conn, F, vertices, n) -> np.ndarray:
     """(n,) bool: ``vertices`` and every vertex sharing a face with one of them."""
     hit = np.zeros(n, dtype=bool)
     hit[vertices] = True
-    faces_hit = hit[F].any(axis=1)
+    faces_hit = topology.any_corner(hit, F)
     hit[F[faces_hit].ravel()] = True
     return hit

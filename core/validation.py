@@ -35,7 +35,7 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     r = remove[collapse][:, None]
     is_k = fv == k
     is_r = fv == r
-    dying = is_k.any(axis=1) & is_r.any(axis=1)
+    dying = (is_k[:, 0] | is_k[:, 1] | is_k[:, 2]) & (is_r[:, 0] | is_r[:, 1] | is_r[:, 2])
 
     ok = _link_condition(conn, cand.edge[chosen], fv, corners % 3, from_keep, collapse, keep, remove, c, n)
 
@@ -44,8 +44,8 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     p_new = np.where((is_k | is_r)[:, :, None], pos[collapse][:, None, :], p_old)
     n_old = np.cross(p_old[:, 1] - p_old[:, 0], p_old[:, 2] - p_old[:, 0])
     n_new = np.cross(p_new[:, 1] - p_new[:, 0], p_new[:, 2] - p_new[:, 0])
-    len_old = np.linalg.norm(n_old, axis=1)
-    len_new = np.linalg.norm(n_new, axis=1)
+    len_old = np.sqrt(np.einsum("ij,ij->i", n_old, n_old))
+    len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
     bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
     # Never turn a face into a sliver: the output's worst triangles stay up. A face that
@@ -81,5 +81,6 @@ def _link_condition(conn, edges, fv, slot, from_keep, collapse, keep, remove, c,
 
 def _quality(p, double_area):
     """Triangle quality 4 sqrt(3) area / sum of squared edges, for (k, 3, 3) corners."""
-    sq = ((p[:, 1] - p[:, 0]) ** 2).sum(1) + ((p[:, 2] - p[:, 1]) ** 2).sum(1) + ((p[:, 0] - p[:, 2]) ** 2).sum(1)
+    e = np.concatenate([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+    sq = np.einsum("ij,ij->i", e, e)
     return 2.0 * np.sqrt(3.0) * double_area / np.maximum(sq, 1e-300)
