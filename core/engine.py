@@ -12,11 +12,12 @@ Python loops run over passes only; every step is a bulk NumPy operation.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from . import checks, quadrics, selection, topology, validation, vertex_quadrics
+from . import selection, topology, validation, vertex_quadrics
+from .prepare import Problem
 from .result import (
     STOP_MAX_ERROR,
     STOP_NO_COLLAPSE,
@@ -26,7 +27,6 @@ from .result import (
     SimplifyStats,
 )
 from .wedges import Wedges
-from .weld import weld_map
 from .geometry import edge_parameter
 
 FREE, SEAM, LOCKED = 0, 1, 2
@@ -35,165 +35,6 @@ SELECTION_ROUNDS = 3
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential
 # greedy order more closely (better Hausdorff), higher needs fewer passes.
 COST_QUANTILE = 0.25
-
-
-@dataclass
-class Problem:
-    vertices: np.ndarray  # normalised: centred on the bounding box, unit diagonal
-    faces: np.ndarray
-    face_origin: np.ndarray
-    vertex_origin: np.ndarray
-    targets: list
-    max_error: object  # normalised units, or None
-    line_weights: np.ndarray
-    importance: object
-    boundary_weight: float
-    locked: np.ndarray
-    progress: object
-    seed: int
-    vertex_attributes: dict
-    normalize_attributes: tuple
-    corner_attributes: dict
-    uv_attributes: tuple
-    preserve_seams: bool
-    feature_edges: np.ndarray
-    feature_edge_weights: np.ndarray
-    center: np.ndarray
-    scale: float
-    input_vertices: int
-    input_faces: int
-    welded: int = 0
-    timings: dict = field(default_factory=dict)
-
-
-def validate_and_prepare(vertices, faces, targets, options) -> Problem:
-    """Check every argument (ValueError naming the problem) and clean the input."""
-    known = {
-        "max_error", "line_weight", "vertex_weights", "importance", "boundary_weight", "locked",
-        "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
-        "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
-        "weld_distance",
-    }
-    unknown = set(options) - known
-    if unknown:
-        raise ValueError(f"unknown option(s): {', '.join(sorted(unknown))}")
-    o = options
-    v = checks.as_vertices(vertices)
-    n = len(v)
-    f = checks.as_faces(faces, n)
-    m = len(f)
-    tgt = checks.targets(targets, m)
-    max_error = o.get("max_error")
-    if max_error is not None:
-        max_error = checks.non_negative(max_error, "max_error")
-    line_weight = checks.non_negative(o.get("line_weight", 1e-3), "line_weight")
-    vw = o.get("vertex_weights")
-    line_weights = np.full(n, line_weight) if vw is None else checks.per_vertex(vw, n, "vertex_weights")
-    imp = o.get("importance")
-    importance = None if imp is None else checks.per_vertex(imp, n, "importance")
-    boundary_weight = checks.non_negative(o.get("boundary_weight", 1.0), "boundary_weight")
-    lk = o.get("locked")
-    locked = np.zeros(n, dtype=bool) if lk is None else checks.per_vertex(lk, n, "locked", dtype=bool)
-    progress = o.get("progress")
-    if progress is not None and not callable(progress):
-        raise ValueError("progress must be callable (fraction) -> bool")
-    seed = o.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be an integer, got {seed!r}")
-    vattrs = checks.vertex_attributes(o.get("vertex_attributes"), n)
-    normalize = tuple(o.get("normalize_attributes") or ())
-    for name in normalize:
-        if name not in vattrs:
-            raise ValueError(f"normalize_attributes names {name!r}, which is not a vertex attribute")
-    cattrs = checks.corner_attributes(o.get("corner_attributes"), m)
-    uvs = tuple(o.get("uv_attributes") or ())
-    for name in uvs:
-        if name not in cattrs or cattrs[name].shape[2] != 2:
-            raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
-    fe = checks.edge_list(o.get("feature_edges") if o.get("feature_edges") is not None else [], n, "feature_edges")
-    ew = o.get("edge_weights")
-    if ew is None:
-        few = np.full(len(fe), checks.non_negative(o.get("feature_weight", 1.0), "feature_weight"))
-    else:
-        few = np.asarray(ew, dtype=np.float64)
-        if few.shape != (len(fe),):
-            raise ValueError(f"edge_weights must have one value per feature edge ({len(fe)}), got shape {few.shape}")
-        if not np.isfinite(few).all() or (few < 0).any():
-            raise ValueError("edge_weights must be finite and >= 0")
-    weld_distance = o.get("weld_distance")
-    if weld_distance is not None:
-        weld_distance = float(weld_distance)
-
-    # Normalise positions: quadric sums of large coordinates lose precision to cancellation.
-    if n:
-        lo, hi = v.min(axis=0), v.max(axis=0)
-        center = 0.5 * (lo + hi)
-        scale = float(np.linalg.norm(hi - lo)) or 1.0
-    else:
-        center, scale = np.zeros(3), 1.0
-    vn = (v - center) / scale
-    if max_error is not None:
-        max_error = max_error / scale
-
-    # Weld coincident vertices (exported assets), then drop faces that became degenerate
-    # or duplicate: they cannot be simplified and would break the manifold checks.
-    rep = weld_map(vn, None if weld_distance is None else (weld_distance / scale if weld_distance > 0 else weld_distance))
-    welded = int(np.count_nonzero(rep != np.arange(n)))
-    fw = rep[f] if m else f
-    keep = (fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 0] != fw[:, 2])
-    sorted_f = np.sort(fw, axis=1)
-    keys = (sorted_f[:, 0] * n + sorted_f[:, 1]) * n + sorted_f[:, 2] if n < 2_000_000 else None
-    if keys is not None and m:
-        _, first = np.unique(np.where(keep, keys, -1), return_index=True)
-        unique_mask = np.zeros(m, dtype=bool)
-        unique_mask[first] = True
-        keep &= unique_mask
-    elif m:
-        _, first = np.unique(sorted_f, axis=0, return_index=True)
-        unique_mask = np.zeros(m, dtype=bool)
-        unique_mask[first] = True
-        keep &= unique_mask
-    face_origin = np.flatnonzero(keep)
-    # Welded vertices pool their locks, weights and importance: the strongest wins.
-    if welded:
-        locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
-        line_weights = _max_by_group(line_weights, rep, n)
-        if importance is not None:
-            importance = _max_by_group(importance, rep, n)
-
-    return Problem(
-        vertices=vn,
-        faces=fw[keep],
-        face_origin=face_origin,
-        vertex_origin=np.arange(n),
-        targets=tgt,
-        max_error=max_error,
-        line_weights=line_weights,
-        importance=importance,
-        boundary_weight=boundary_weight,
-        locked=locked,
-        progress=progress,
-        seed=int(seed),
-        vertex_attributes=vattrs,
-        normalize_attributes=normalize,
-        corner_attributes={k: a[keep] for k, a in cattrs.items()},
-        uv_attributes=uvs,
-        preserve_seams=bool(o.get("preserve_seams", True)),
-        feature_edges=rep[fe] if len(fe) else fe,
-        feature_edge_weights=few,
-        center=center,
-        scale=scale,
-        input_vertices=n,
-        input_faces=m,
-        welded=welded,
-    )
-
-
-def _max_by_group(values, rep, n):
-    out = np.zeros(n)
-    order = np.argsort(values, kind="stable")
-    out[rep[order]] = values[order]  # ascending writes: the largest lands last
-    return out[rep]
 
 
 @dataclass

@@ -6,7 +6,7 @@ from typing import Callable, Mapping, Optional, Sequence
 import numpy as np
 
 from .result import SimplifyResult
-from . import engine
+from . import engine, prepare
 
 
 def simplify(
@@ -96,7 +96,7 @@ def simplify_chain(vertices, faces, targets: Sequence[int], **options) -> list:
     level is a coarsening of the previous one (edge collapse is progressive). Takes every
     option of :func:`simplify` except target_faces/ratio.
     """
-    problem = engine.validate_and_prepare(vertices, faces, targets, options)
+    problem = prepare.validate_and_prepare(vertices, faces, targets, options)
     return engine.run(problem)
 
 
