@@ -338,3 +338,50 @@ def distance_to_polyline(P, V, edges):
     if len(P) == 0:
         return np.zeros(0)
     return point_segment_distance(P, V[edges[:, 0]], V[edges[:, 1]]).min(axis=1)
+
+
+# ---------------------------------------------------------------- result checks
+
+
+def assert_valid_result(r, V_in, F_in, manifold=True):
+    """Structural checks every simplify result must pass.
+
+    manifold: the input was manifold, so the output must be too (each undirected edge on
+    at most two faces, each directed edge at most once: consistently oriented).
+    """
+    V, F = r.vertices, r.faces
+    assert V.dtype == np.float64 and V.ndim == 2 and V.shape[1] == 3
+    assert np.issubdtype(F.dtype, np.integer) and F.ndim == 2 and F.shape[1] == 3
+    assert np.isfinite(V).all()
+    if len(F):
+        assert F.min() >= 0 and F.max() < len(V), "face index out of range"
+    # Every output vertex is used (isolated ones are dropped, removed ones compacted away).
+    assert np.array_equal(np.unique(F), np.arange(len(V))), "unreferenced output vertices"
+    assert np.all((F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])), "degenerate face"
+    assert len(np.unique(np.sort(F, axis=1), axis=0)) == len(F), "duplicate faces"
+    if manifold and len(F):
+        _, count = edge_table(F)
+        assert count.max() <= 2, "non-manifold edge created"
+        _, dcount = np.unique(directed_edges(F), axis=0, return_counts=True)
+        assert dcount.max() == 1, "inconsistent orientation (a directed edge used twice)"
+    fo, vo = np.asarray(r.face_origin), np.asarray(r.vertex_origin)
+    assert fo.shape == (len(F),) and vo.shape == (len(V),)
+    if len(F):
+        assert fo.min() >= 0 and fo.max() < len(F_in), "face_origin out of range"
+        # Collapse only relabels and deletes faces: one output face per surviving input face.
+        assert len(np.unique(fo)) == len(fo), "two output faces claim the same input face"
+        assert vo.min() >= 0 and vo.max() < len(V_in)
+        assert len(np.unique(vo)) == len(vo), "two output vertices claim the same input vertex"
+    s = r.stats
+    assert s.output_faces == len(F) and s.output_vertices == len(V)
+    assert s.input_faces == len(F_in) and s.input_vertices == len(V_in)
+
+
+def assert_target_respected(r, target):
+    """Within 1 of the target when the stats say it was reached; above it otherwise."""
+    m = len(r.faces)
+    if r.stats.stop_reason == "target_reached":
+        assert target - 1 <= m <= target, (m, target)
+    else:
+        assert r.stats.stop_reason in ("no_valid_collapse", "max_error_reached")
+        assert m > target, (m, target, r.stats.stop_reason)
