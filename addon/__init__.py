@@ -20,22 +20,27 @@ The submodules that need bpy are imported inside register(), so the pure-NumPy p
 """
 
 _classes = []
+_cli_commands = []  # handles from bpy.utils.register_cli_command
 
 
 def register():
     import bpy
 
-    from . import operators, panel, props
+    from . import cli, operators, panel, props
 
     _classes[:] = [props.LineQuadricLodSettings, *operators.classes, *panel.classes]
     for cls in _classes:
         bpy.utils.register_class(cls)
     bpy.types.Scene.line_quadric_lod = bpy.props.PointerProperty(type=props.LineQuadricLodSettings)
+    # `blender -b scene.blend -c line_quadric_lod [options]` (Blender 4.2+).
+    _cli_commands.append(bpy.utils.register_cli_command(cli.COMMAND_ID, cli.cli_command))
 
 
 def unregister():
     import bpy
 
+    while _cli_commands:
+        bpy.utils.unregister_cli_command(_cli_commands.pop())
     if hasattr(bpy.types.Scene, "line_quadric_lod"):
         del bpy.types.Scene.line_quadric_lod
     for cls in reversed(_classes):

@@ -779,8 +779,8 @@ class _ObjectProgress:
 
     def announce(self, index: int, chain: float) -> None:
         name = self.input.source_name
-        self.console.progress(f"[{self.label}] {name}: LOD{index + 1} simplified (target {self.input.targets[index]:,} "
-                              f"triangles ({self._left(chain, 0.0)})")
+        self.console.progress(f"[{self.label}] {name}: LOD{index + 1} simplified, target "
+                              f"{self.input.targets[index]:,} triangles ({self._left(chain, 0.0)})")
 
     def finish(self) -> None:
         while self.next < len(self.marks):  # levels that stopped early
