@@ -122,8 +122,8 @@ an Empty "<name>_LODGroup" with the custom property fbx_type = "LodGroup", which
 exporter writes as an FBX LOD group (Unreal: "Import Mesh LODs").
 
 importance: --importance-group NAME is used on every object that has that vertex group,
---from-armature on skinned objects without it; an input none of whose objects has the
-group (or, with --from-armature alone, a skinned object) fails with a message.
+--from-armature on skinned objects without it; other objects are simplified without
+importance, with a note after the table and in the report.
 --sample implies --importance-group LOD_Importance --from-armature.
 
 exit status: 0 done, 1 some inputs failed (the others were still done), 2 nothing done
@@ -551,7 +551,8 @@ def _import(path: Path) -> None:
     elif ext == ".stl":
         bpy.ops.wm.stl_import(filepath=fp)
     elif ext in (".glb", ".gltf"):
-        bpy.ops.import_scene.gltf(filepath=fp)
+        # No bone-shape icosphere: it would be one more mesh object to make LODs of.
+        bpy.ops.import_scene.gltf(filepath=fp, disable_bone_shape=True)
     elif ext == ".fbx":
         bpy.ops.import_scene.fbx(filepath=fp)
     else:  # expand_inputs lets only the formats above through
@@ -646,7 +647,10 @@ def select_objects(scene, names) -> tuple:
     """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD."""
     from . import lod
 
-    meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod.LEVEL_PROP not in ob]
+    # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
+    widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
+               for pb in ob.pose.bones if pb.custom_shape is not None}
+    meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod.LEVEL_PROP not in ob and ob not in widgets]
     if names:
         problems, picked = [], []
         for name in dict.fromkeys(names):
@@ -671,7 +675,11 @@ def select_objects(scene, names) -> tuple:
 
 
 def importance_choice(objects, args) -> list:
-    """Per object: (importance_source, group, warning or None); CliError if it fits none."""
+    """Per object: (importance_source, group, note or None).
+
+    In a batch of mixed assets only some have the painted group or a rig, so an object
+    without either is simplified without importance and gets a note (in the report and
+    after the table) rather than failing the input."""
     from . import lod
 
     group = args.importance_group
@@ -686,11 +694,6 @@ def importance_choice(objects, args) -> list:
                                       ("not skinned", args.from_armature)) if on]
             note = f"no importance ({' and '.join(wanted)})" if wanted else None
             choices.append(('NONE', "", note))
-    if group and not any(c[0] == 'VERTEX_GROUP' for c in choices) and not (
-            args.from_armature and any(c[0] == 'ARMATURE' for c in choices)):
-        raise CliError(f'--importance-group: no object has a vertex group "{group}"')
-    if args.from_armature and not group and not any(c[0] == 'ARMATURE' for c in choices):
-        raise CliError("--from-armature: no object is skinned (Armature modifier or armature parent)")
     return choices
 
 

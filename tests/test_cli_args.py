@@ -1,0 +1,169 @@
+"""The command line's parsing and checking, which need no Blender: in-process for the
+pure functions, and through ``python <checkout>`` for the messages and exit codes (these
+runs stop before bpy is imported, so each costs a fraction of a second)."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+from addon import cli
+from addon.settings import LodError
+from bpy_harness import REPO_ROOT, isolated_blender_env
+
+REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",
+                    "--jobs", "--line-weight", "--importance-group", "--from-armature", "--strength",
+                    "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
+                    "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials"]
+
+
+def parse(*argv):
+    return cli.build_parser("test").parse_args(list(argv))
+
+
+def run_cli(tmp_path, *argv):
+    env = {**os.environ, **isolated_blender_env(tmp_path / "user")}
+    proc = subprocess.run([sys.executable, str(REPO_ROOT), *argv], capture_output=True, text=True,
+                          cwd=tmp_path, env=env, timeout=120)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def error_lines(stderr):
+    return [line for line in stderr.splitlines() if line.strip()]
+
+
+def test_every_documented_option_exists_and_help_has_examples(tmp_path):
+    code, out, err = run_cli(tmp_path, "--help")
+    assert code == 0, err
+    for option in REQUIRED_OPTIONS:
+        assert option in out, option
+    assert "examples:" in out and "-c line_quadric_lod" in out and "--sample --output-dir" in out
+    assert "LodGroup" in out and "_LOD0" in out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--bogus"], "unrecognized arguments: --bogus"),
+    (["--ratios", "0.5", "x", "--report", "r.json"], "argument --ratios: expected a number, got 'x'"),
+    (["--faces", "0", "--report", "r.json"], "must be at least 1, got 0"),
+    (["--jobs", "two", "--report", "r.json"], "expected a whole number, got 'two'"),
+    (["--mode", "hard", "--report", "r.json"], "invalid choice: 'hard'"),
+    (["--ratios", "0.5", "--faces", "100", "--report", "r.json"], "not allowed with argument"),
+])
+def test_argparse_errors_are_one_line_with_exit_2(tmp_path, argv, message):
+    code, out, err = run_cli(tmp_path, *argv)
+    assert code == 2
+    lines = error_lines(err)
+    assert len(lines) == 1, err
+    assert lines[0].startswith("error: ") and message in lines[0], lines[0]
+    assert "Traceback" not in err and out == ""
+
+
+def test_each_problem_gets_its_own_line(tmp_path):
+    (tmp_path / "notes.txt").write_text("not a mesh")
+    (tmp_path / "empty").mkdir()
+    code, out, err = run_cli(
+        tmp_path, "--input", "missing.obj", "notes.txt", "empty", "nothing*.glb",
+        "--ratios", "0.5", "1.5", "--strength", "2", "--output", "out.xyz")
+    assert code == 2 and out == ""
+    lines = error_lines(err)
+    expected = [
+        "--ratios: 1.5 not between 0 and 1",
+        "--strength must be between 0 and 1, got 2",
+        "unsupported output format '.xyz' for out.xyz",
+        "no such file: missing.obj",
+        "unsupported input format '.txt': notes.txt",
+        "the folder empty has no files of a supported type",
+        "no files match 'nothing*.glb'",
+    ]
+    assert len(lines) == len(expected), err
+    for line, text in zip(lines, expected):
+        assert line.startswith("error: ") and text in line, (line, text)
+    assert "Traceback" not in err
+
+
+def test_nothing_to_write_and_no_input(tmp_path):
+    code, _, err = run_cli(tmp_path, "--sample")
+    assert code == 2
+    assert error_lines(err) == ["error: nothing to write: give --output FILE, --output-dir DIR or --report FILE.json"]
+    # No --input and no .blend open (the bpy module starts with an unsaved scene).
+    code, _, err = run_cli(tmp_path, "--output", "x.blend")
+    assert code == 2
+    lines = error_lines(err)
+    assert len(lines) == 1 and lines[0].startswith("error: no input: give --input FILE"), err
+
+
+def test_output_needs_one_input_and_same_stems_clash(tmp_path):
+    for name in ("a/x.obj", "b/x.obj"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text("v 0 0 0\n")
+    code, _, err = run_cli(tmp_path, "--input", "a/x.obj", "b/x.obj", "--output", "x.blend")
+    assert code == 2 and "--output writes one file but there are 2 inputs: use --output-dir" in err
+    code, _, err = run_cli(tmp_path, "--input", "a/x.obj", "b/x.obj", "--output-dir", "out")
+    assert code == 2 and "would all be written to" in err and "x_LODs.obj" in err
+
+
+def test_check_args_rules():
+    assert cli.check_args(parse("--ratios", "0.5", "0.25", "--report", "r.json")) == []
+    assert cli.check_args(parse("--ratios", "0.25", "0.5", "--report", "r.json")) == [
+        "--ratios must decrease (each LOD smaller than the one before), got 0.25 0.5"]
+    assert cli.check_args(parse("--faces", "100", "100", "--report", "r.json")) == [
+        "--faces must decrease (each LOD smaller than the one before), got 100 100"]
+    assert cli.check_args(parse("--line-weight", "-1", "--report", "r.json")) == ["--line-weight must be >= 0, got -1"]
+    assert cli.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
+        "--format goes with --output-dir; the --output file's extension picks its format"]
+    assert cli.check_args(parse("--importance-group", " ", "--report", "r.json")) == [
+        "--importance-group needs a vertex group name"]
+
+
+def test_targets_for():
+    args = parse("--ratios", "0.5", "0.25", "0.1", "--report", "r.json")
+    assert cli.targets_for(args, 1000) == [500, 250, 100]
+    args = parse("--report", "r.json")  # the default chain
+    assert cli.targets_for(args, 1000) == [500, 250, 125]
+    with pytest.raises(LodError, match=r"of 12 triangles give \[6, 3, 0\]: each LOD needs fewer"):
+        cli.targets_for(parse("--ratios", "0.5", "0.25", "0.01", "--report", "r.json"), 12)
+    with pytest.raises(LodError, match="--faces 2000 is not fewer than the mesh's 1,000 triangles"):
+        cli.targets_for(parse("--faces", "2000", "10", "--report", "r.json"), 1000)
+    assert cli.targets_for(parse("--faces", "900", "10", "--report", "r.json"), 1000) == [900, 10]
+
+
+def test_expand_inputs_files_folders_globs(tmp_path):
+    for name in ("b.obj", "a.glb", "c.GLTF", "c.bin", ".hidden.obj", "sub/d.fbx"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text("x")
+    files, problems = cli.expand_inputs([str(tmp_path)])
+    assert problems == [] and [f.name for f in files] == ["a.glb", "b.obj", "c.GLTF"]
+    files, problems = cli.expand_inputs([str(tmp_path / "*.obj"), str(tmp_path / "b.obj"), str(tmp_path / "**/*.fbx")])
+    assert problems == [] and [f.name for f in files] == ["b.obj", "d.fbx"]  # duplicates once, recursive glob
+    files, problems = cli.expand_inputs([str(tmp_path / "*.bin")])
+    assert files == [] and problems == [f"no files of a supported type (.blend .obj .ply .stl .glb .gltf .fbx) "
+                                        f"match {str(tmp_path / '*.bin')!r}"]
+
+
+def test_option_round_trip_for_child_processes():
+    """--jobs children get the parent's options back from the parsed namespace."""
+    parser = cli.build_parser("test")
+    argv = ["--input", "a.obj", "--objects", "A", "B C", "--faces", "900", "90", "--line-weight", "0.0125",
+            "--importance-group", "Paint Me", "--from-armature", "--strength", "0.3", "--mode", "strong",
+            "--no-preserve-seams", "--no-preserve-materials", "--sharp-strength", "2.5", "--no-modifiers",
+            "--lod-group", "--no-measure", "--quiet", "--debug", "--output-dir", "out", "--format", "fbx",
+            "--jobs", "3", "--report", "r.json"]
+    args = parser.parse_args(argv)
+    skip = {"input", "sample", "output", "output_dir", "format", "report", "jobs"}
+    again = parser.parse_args(cli._option_argv(parser, args, skip) + ["--report", "other.json"])
+    for name, value in vars(args).items():
+        if name not in skip:
+            assert getattr(again, name) == value, name
+    assert again.input is None and again.jobs == 1 and again.output_dir is None
+
+
+def test_table_format():
+    level = {"level": 1, "name": "Rock_LOD1", "target": 1000, "triangles": 999, "hausdorff_percent": 0.5,
+             "mean_percent": 0.01, "mean_quality": 0.8, "min_quality": 0.3, "sliver_percent": 1.25, "seconds": 0.5}
+    files = [{"label": "rock.obj", "objects": [{"levels": [
+        dict(level, level=0, name="Rock_LOD0", target=None, triangles=2000, seconds=0.0), level]}]}]
+    lines = cli.format_table(files).splitlines()
+    assert lines[0].split("  ")[0] == "File" and len(lines) == 4
+    cells = lines[3].split()
+    assert cells[:6] == ["rock.obj", "Rock_LOD1", "LOD1", "999", "1,000", "0.500"]
+    assert lines[2].split()[4] == "-"  # LOD0 has no target
