@@ -124,14 +124,17 @@ def cube(k: int = 4, split: bool = False, half: float = 1.0):
     return V, F, UV
 
 
-def weld_exact(V, F):
-    """Merge exactly coincident vertices (keeps the first of each position)."""
+def weld_exact(V, F, return_map=False):
+    """Merge exactly coincident vertices (keeps the first of each position, in order).
+
+    return_map: also return (n,) the welded index of every input vertex.
+    """
     _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
     order = np.sort(first)
     new_of_first = np.empty(len(V), dtype=np.int64)
     new_of_first[order] = np.arange(len(order))
-    rep = first[inverse.reshape(-1)]
-    return V[order], new_of_first[rep][F]
+    index = new_of_first[first[inverse.reshape(-1)]]
+    return (V[order], index[F], index) if return_map else (V[order], index[F])
 
 
 def torus(nu: int = 16, nv: int = 8, R: float = 1.0, r: float = 0.35):
@@ -161,6 +164,18 @@ def tube(n_around: int = 16, n_height: int = 8, radius: float = 0.5, height: flo
     c = b + 1
     d = a + 1
     return v, np.concatenate([np.c_[a, b, c], np.c_[a, c, d]]).astype(np.int64)
+
+
+def material_border_edges(F, material):
+    """Edges between two faces of different material: (k, 2) sorted vertex pairs."""
+    he = directed_edges(F)
+    face = np.tile(np.arange(len(F)), 3)
+    key = np.sort(he, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    key, face = key[order], face[order]
+    pair = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))
+    differ = material[face[pair]] != material[face[pair + 1]]
+    return key[pair[differ]]
 
 
 def two_material_sheet(n: int = 20, curved: bool = True):
@@ -306,7 +321,7 @@ def seam_edges(F, UV, tol=0.0):
 
 
 def uv_islands(F, UV):
-    """Island label of each face: faces joined across edges that are not seams."""
+    """Island label (0..k-1) of each face: faces joined across edges that are not seams."""
     he = directed_edges(F)
     m = len(F)
     face_of = np.tile(np.arange(m), 3)
@@ -320,7 +335,7 @@ def uv_islands(F, UV):
     pair = np.flatnonzero(ks[1:] == ks[:-1])
     not_seam = ~np.isin(ks[pair], seam_keys)
     links = np.c_[fs[pair[not_seam]], fs[pair[not_seam] + 1]]
-    return component_labels(m, links)
+    return np.unique(component_labels(m, links), return_inverse=True)[1].reshape(-1)
 
 
 def point_segment_distance(P, A, B):

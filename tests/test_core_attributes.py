@@ -1,0 +1,307 @@
+"""Issue 4: everything the mesh carries comes through - UVs and seams, skin weights,
+materials (via face_origin), feature edges, split vertices of exported assets."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import core
+import meshgen as mg
+
+
+def _simplify_uv(V, F, UV, ratio=0.2, **kw):
+    return core.simplify(V, F, ratio=ratio, corner_attributes={"uv": UV}, uv_attributes=("uv",), **kw)
+
+
+def _edge_samples(V, edges, k=8):
+    t = np.linspace(0.0, 1.0, k + 1)
+    a, b = V[edges[:, 0]], V[edges[:, 1]]
+    return (a[:, None, :] * (1 - t)[None, :, None] + b[:, None, :] * t[None, :, None]).reshape(-1, 3)
+
+
+def _seam_graph_degree(edges, n):
+    return np.bincount(edges.ravel(), minlength=n)
+
+
+UV_MESHES = {
+    "sphere": lambda: mg.uv_sphere(24, 16) + (None,),
+    "sphere_fan_poles": lambda: mg.uv_sphere(24, 16, pole_uv="fan") + (None,),
+    "cube": lambda: mg.cube(6) + (None,),
+    "cube_split": lambda: mg.cube(6, split=True) + ("split",),
+}
+
+
+def _reference(V, F, UV, split):
+    """The welded input the seams are judged on, and each input vertex's welded index."""
+    if split:
+        Vw, Fw, index = mg.weld_exact(V, F, return_map=True)
+        return Vw, Fw, index
+    return V, F, np.arange(len(V))
+
+
+@pytest.mark.parametrize("name", sorted(UV_MESHES))
+def test_seams_survive_as_continuous_polylines(name):
+    V, F, UV, split = UV_MESHES[name]()
+    Vw, Fw, index = _reference(V, F, UV, split)
+    seams_in = mg.seam_edges(Fw, UV)
+    assert len(seams_in) > 0
+    r = _simplify_uv(V, F, UV)
+    mg.assert_valid_result(r, V, F)
+    assert len(mg.boundary_edges(r.faces)) == 0, "closed input got a boundary"
+    if name != "sphere_fan_poles":  # every pole vertex there is a locked seam end
+        assert r.stats.stop_reason == "target_reached"
+    uv_out = r.corner_attributes["uv"]
+    assert uv_out.shape == (len(r.faces), 3, 2)
+    seams_out = mg.seam_edges(r.faces, uv_out)
+    assert len(seams_out) > 0
+
+    # Output seam vertices descend from input seam vertices ...
+    seam_v_out = np.unique(seams_out)
+    assert np.isin(index[r.vertex_origin[seam_v_out]], np.unique(seams_in)).all()
+    # ... and every output seam edge runs along the input seam (never across a surface):
+    # samples along it stay within a chord's sagitta of the input seam polyline ...
+    length = np.linalg.norm(r.vertices[seams_out[:, 0]] - r.vertices[seams_out[:, 1]], axis=1)
+    d = mg.distance_to_polyline(_edge_samples(r.vertices, seams_out), Vw, seams_in).reshape(len(seams_out), -1)
+    assert np.all(d.max(1) <= 0.15 * length + 1e-12), (d.max(1) / length).max()
+    # ... while the input seam stays covered by output seam edges (nothing dropped).
+    back = mg.distance_to_polyline(_edge_samples(Vw, seams_in), r.vertices, seams_out)
+    assert back.max() <= 0.15 * length.max(), back.max() / length.max()
+
+    # Continuous polylines: as many seam components as before, and the seam ends and
+    # junctions (degree != 2) are exactly the input's, in place.
+    n_comp_in = mg.count_components(len(Vw), seams_in)
+    assert mg.count_components(len(r.vertices), seams_out) == n_comp_in
+    deg_in = _seam_graph_degree(seams_in, len(Vw))
+    deg_out = _seam_graph_degree(seams_out, len(r.vertices))
+    special_in = np.flatnonzero((deg_in > 0) & (deg_in != 2))
+    special_out = index[r.vertex_origin[np.flatnonzero((deg_out > 0) & (deg_out != 2))]]
+    assert np.array_equal(np.sort(special_out), special_in)
+    rows = np.flatnonzero(np.isin(index[r.vertex_origin], special_in))
+    np.testing.assert_allclose(r.vertices[rows], Vw[index[r.vertex_origin[rows]]], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(UV_MESHES))
+def test_no_uv_triangle_flips_and_uvs_stay_in_their_island(name):
+    V, F, UV, split = UV_MESHES[name]()
+    Vw, Fw, index = _reference(V, F, UV, split)
+    r = _simplify_uv(V, F, UV)
+    uv_out = r.corner_attributes["uv"]
+    a_in = mg.uv_signed_area(UV)[r.face_origin]
+    a_out = mg.uv_signed_area(uv_out)
+    assert np.all(np.sign(a_out) == np.sign(a_in)), "a UV triangle flipped or collapsed"
+    assert np.all(np.abs(a_out) > 1e-14)
+    # Every corner's UV inside its face's input island (each island here is a rectangle
+    # in UV space, so the island's bounding box is the island).
+    island = mg.uv_islands(Fw, UV)
+    n_isl = island.max() + 1
+    flat_isl = np.repeat(island, 3)
+    flat_uv = UV.reshape(-1, 2)
+    lo = np.full((n_isl, 2), np.inf)
+    hi = np.full((n_isl, 2), -np.inf)
+    np.minimum.at(lo, flat_isl, flat_uv)
+    np.maximum.at(hi, flat_isl, flat_uv)
+    out_isl = island[r.face_origin]
+    tol = 1e-12
+    assert np.all(uv_out >= lo[out_isl][:, None, :] - tol) and np.all(uv_out <= hi[out_isl][:, None, :] + tol)
+    # Non-degenerate output UV islands: no island lost.
+    assert len(np.unique(out_isl)) == n_isl
+
+
+@pytest.mark.parametrize("split", [False, True])
+def test_cube_seam_corners_keep_uvs_on_their_own_island_border(split):
+    """Both sides of a seam move together, each keeping its own values: on the cube the
+    UV of each island is an affine map of the position, so a corner sliding along a cube
+    edge must carry exactly that map's UV on each side."""
+    V, F, UV = mg.cube(6, split=split)
+    Vw, Fw, index = mg.weld_exact(V, F, return_map=True)
+    island = mg.uv_islands(Fw, UV)
+    # Least-squares affine map uv = [x, y, z, 1] @ M per island (exact for this cube).
+    maps = []
+    for i in range(island.max() + 1):
+        rows = np.flatnonzero(island == i)
+        P = np.c_[V[F[rows]].reshape(-1, 3), np.ones(3 * len(rows))]
+        M, *_ = np.linalg.lstsq(P, UV[rows].reshape(-1, 2), rcond=None)
+        assert np.allclose(P @ M, UV[rows].reshape(-1, 2), atol=1e-12)
+        maps.append(M)
+    maps = np.array(maps)
+    r = _simplify_uv(V, F, UV)
+    seams_out = mg.seam_edges(r.faces, r.corner_attributes["uv"])
+    on_seam = np.isin(r.faces, np.unique(seams_out))
+    f_idx, c_idx = np.nonzero(on_seam)
+    pos = r.vertices[r.faces[f_idx, c_idx]]
+    M = maps[island[r.face_origin[f_idx]]]
+    expected = np.einsum("ij,ijk->ik", np.c_[pos, np.ones(len(pos))], M)
+    np.testing.assert_allclose(r.corner_attributes["uv"][f_idx, c_idx], expected, atol=1e-9)
+
+
+def test_split_cube_welds_and_simplifies_as_a_closed_shape():
+    # 24 vertices (4 per side) weld to the 8 corners.
+    V, F, UV = mg.cube(1, split=True)
+    assert len(V) == 24 and mg.boundary_loops(F) == 6
+    r = _simplify_uv(V, F, UV, ratio=1.0)
+    assert r.stats.welded_vertices == 16
+    assert len(r.vertices) == 8 and len(mg.boundary_edges(r.faces)) == 0
+    # Subdivided split cube: welded, simplified closed, seams kept.
+    V, F, UV = mg.cube(6, split=True)
+    r = _simplify_uv(V, F, UV)
+    assert r.stats.welded_vertices == len(V) - len(mg.weld_exact(V, F)[0])
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached"
+    assert len(mg.boundary_edges(r.faces)) == 0
+    assert mg.euler_characteristic(r.faces) == 2
+    # Without welding each side shrinks on its own: six open patches.
+    apart = _simplify_uv(V, F, UV, weld_distance=-1.0)
+    assert apart.stats.welded_vertices == 0
+    assert mg.boundary_loops(apart.faces) == 6
+
+
+@pytest.mark.parametrize("weld_distance", [1e-5, 1.37e-4])
+def test_weld_distance_welds_nearly_coincident_vertices(weld_distance):
+    """'weld vertices closer than this': copies 2e-7 apart at most, far closer than the
+    weld distance, must all weld; vertices 0.5 apart must not."""
+    V, F, UV = mg.cube(4, split=True)
+    copies = len(V) - len(mg.weld_exact(V, F)[0])
+    rng = np.random.default_rng(0)
+    Vn = V + rng.uniform(-1e-7, 1e-7, V.shape)  # exporters round positions slightly
+    exact = _simplify_uv(Vn, F, UV, ratio=1.0)
+    assert exact.stats.welded_vertices == 0
+    near = _simplify_uv(Vn, F, UV, ratio=1.0, weld_distance=weld_distance)
+    assert near.stats.welded_vertices == copies
+    assert len(mg.boundary_edges(near.faces)) == 0
+
+
+# ---------------------------------------------------------------- materials
+
+
+def _material_run(feature_weight=None, ratio=0.2, curved=True):
+    V, F, mat = mg.two_material_sheet(20, curved=curved)
+    border = mg.material_border_edges(F, mat)
+    kw = {} if feature_weight is None else dict(feature_edges=border, feature_weight=feature_weight)
+    r = core.simplify(V, F, ratio=ratio, **kw)
+    out_mat = mat[r.face_origin]
+    border_out = mg.material_border_edges(r.faces, out_mat)
+    size = np.linalg.norm(np.ptp(V, axis=0))
+    d = mg.distance_to_polyline(r.vertices[np.unique(border_out)], V, border)
+    return V, F, mat, r, out_mat, border_out, d.max() / size
+
+
+@pytest.mark.parametrize("ratio", [0.2, 0.1])
+@pytest.mark.parametrize("curved", [False, True])
+def test_material_border_is_kept(ratio, curved):
+    # The add-on hands material borders to the core as feature edges (weight 1 by default).
+    V, F, mat, r, out_mat, border_out, dev = _material_run(1.0, ratio, curved)
+    mg.assert_valid_result(r, V, F)
+    assert dev < 0.005, dev  # measured ~0.15 %
+    # Still one polyline from one side of the sheet to the other.
+    assert mg.count_components(len(r.vertices), border_out) == 1
+    deg = np.bincount(border_out.ravel())
+    assert np.count_nonzero(deg == 1) == 2 and np.all(deg[deg > 0] <= 2)
+    # face_origin carries materials exactly: each output face lies on its material's side.
+    cx = r.vertices[r.faces].mean(1)[:, 0]
+    assert np.all((cx < 0.5) == (out_mat == 0))
+
+
+def test_material_border_drifts_without_feature_edges():
+    # The counterpart that shows the test above can fail.
+    *_, dev = _material_run(None, 0.1)
+    assert dev > 0.02, dev
+
+
+def test_face_origin_maps_every_face_to_a_valid_material():
+    V, F, mat = mg.two_material_sheet(16, curved=True)
+    mats = np.array([3, 7])[mat]  # arbitrary slot numbers
+    r = core.simplify(V, F, ratio=0.15)
+    out = mats[r.face_origin]
+    assert set(np.unique(out)) == {3, 7}
+    # Exact: an output face's material is its origin face's, whatever else happened.
+    assert np.array_equal(out, mats[r.face_origin])
+    assert np.all(np.isin(r.face_origin, np.arange(len(F))))
+
+
+# ---------------------------------------------------------------- vertex data
+
+
+@pytest.mark.parametrize("mesh", ["sphere", "bumpy"])
+def test_skin_weights_stay_convex_and_sum_to_one(mesh):
+    if mesh == "sphere":
+        V, F, _ = mg.uv_sphere(20, 12)
+    else:
+        V, F = mg.grid(16, jitter=0.2, height=mg.bumps(0.1, 1.5))
+    rng = np.random.default_rng(5)
+    skin = rng.dirichlet(np.full(4, 0.5), size=len(V))
+    skin[::9] = np.eye(4)[rng.integers(0, 4, len(skin[::9]))]  # some rigidly bound vertices
+    colour = rng.uniform(-2.0, 3.0, (len(V), 3))  # not normalised: only interpolated
+    r = core.simplify(V, F, ratio=0.15, vertex_attributes={"skin": skin, "colour": colour},
+                      normalize_attributes=("skin",))
+    mg.assert_valid_result(r, V, F)
+    w = r.vertex_attributes["skin"]
+    assert w.shape == (len(r.vertices), 4)
+    assert np.all(w >= 0)
+    assert np.all(w >= skin.min(0) - 1e-12) and np.all(w <= skin.max(0) + 1e-12)
+    np.testing.assert_allclose(w.sum(1), 1.0, atol=1e-9)
+    c = r.vertex_attributes["colour"]
+    assert c.shape == (len(r.vertices), 3)
+    assert np.all(c >= colour.min(0) - 1e-12) and np.all(c <= colour.max(0) + 1e-12)
+    # Interpolated, not frozen: most survivors carry a blend, not their own input row.
+    own = np.all(np.isclose(c, colour[r.vertex_origin]), axis=1)
+    assert own.mean() < 0.9
+
+
+def test_vertex_attributes_of_untouched_vertices_are_unchanged():
+    V, F = mg.grid(8)
+    rng = np.random.default_rng(0)
+    attr = rng.normal(size=(len(V), 2))
+    r = core.simplify(V, F, ratio=1.0, vertex_attributes={"a": attr})
+    np.testing.assert_array_equal(r.vertex_attributes["a"], attr[r.vertex_origin])
+    # A 1-D attribute comes back as (n, 1).
+    r = core.simplify(V, F, ratio=0.5, vertex_attributes={"b": attr[:, 0]})
+    assert r.vertex_attributes["b"].shape == (len(r.vertices), 1)
+
+
+def test_vertex_attribute_follows_a_linear_field():
+    # Data linear in x on a flat sheet: interpolation along each collapsed edge by the
+    # new position's projection keeps it close to x at the new position.
+    V, F = mg.grid(16, jitter=0.2)
+    r = core.simplify(V, F, ratio=0.2, vertex_attributes={"x": V[:, 0]})
+    err = np.abs(r.vertex_attributes["x"][:, 0] - r.vertices[:, 0])
+    cell = 1.0 / 16
+    assert err.max() < 2 * cell, err.max()
+
+
+def test_importance_from_skin_weights():
+    s = np.array([[1.0, 0, 0], [0.5, 0.5, 0], [0.4, 0.3, 0.3], [0, 0, 0]])
+    w = core.importance_from_skin_weights(s)
+    np.testing.assert_allclose(w, [0.0, 0.075, 0.09, 0.1])
+
+
+# ---------------------------------------------------------------- feature edges
+
+
+def _loop_run(ratio, **kw):
+    n = 24
+    V, F = mg.grid(n)
+    loop = mg.square_loop_edges(n, 6, 18)
+    r = core.simplify(V, F, ratio=ratio, **kw)
+    edges_out, _ = mg.edge_table(r.faces)
+    d = mg.distance_to_polyline(_edge_samples(V, loop), r.vertices, edges_out)
+    return V, F, loop, r, d.max()
+
+
+@pytest.mark.parametrize("ratio", [0.2, 0.1, 0.05])
+def test_marked_feature_loop_survives_where_plain_simplification_loses_it(ratio):
+    V, F, loop, plain, lost = _loop_run(ratio)
+    _, _, _, kept_r, kept = _loop_run(ratio, feature_edges=loop, feature_weight=100.0)
+    mg.assert_valid_result(kept_r, V, F)
+    assert kept_r.stats.stop_reason == "target_reached"
+    # Hausdorff distance from the loop to the output's edges, in units of the sheet (1).
+    assert kept < 1e-3, kept  # measured <= 1e-12
+    assert lost > 0.02, lost  # measured 0.03 - 0.06
+    # Per-edge weights equal to the scalar weight are the same thing.
+    _, _, _, same, _ = _loop_run(ratio, feature_edges=loop, edge_weights=np.full(len(loop), 100.0))
+    assert same.faces.tobytes() == kept_r.faces.tobytes()
+
+
+def test_feature_weight_zero_is_no_feature():
+    _, _, loop, plain, _ = _loop_run(0.1)
+    _, _, _, zero, _ = _loop_run(0.1, feature_edges=loop, feature_weight=0.0)
+    assert zero.faces.tobytes() == plain.faces.tobytes()
