@@ -1,0 +1,293 @@
+"""The shared way for tests to run Blender (the ``bpy`` module) and the extension tool.
+
+Why a subprocess: ``bpy`` can be imported only once per process and keeps global state
+(scene, preferences, registered classes), so every Blender check runs in a fresh child
+of the test interpreter (``sys.executable``, i.e. ``.venv/bin/python``). A child costs
+about 0.5-2 s to start: put several checks into one snippet rather than one per test.
+
+Isolation: the child gets ``isolated_blender_env(user_dir)``: every ``BLENDER_USER_*``
+variable and ``HOME`` point inside ``user_dir``, so the real ``~/.config/blender`` is
+never read or written.
+
+Installing the extension (what works with bpy 4.5, measured): the bpy module starts
+with factory preferences and does *not* read ``userpref.blend`` on import. So
+``install_extension()`` runs one child that calls
+``bpy.ops.extensions.package_install_files(filepath=zip, repo="user_default",
+enable_on_install=True)`` and then ``bpy.ops.wm.save_userpref()``; every later child
+calls ``bpy.ops.wm.read_userpref()`` before the snippet, which re-enables the installed
+extension exactly as Blender does at start-up. A marker file in ``user_dir`` records the
+installed zip's hash, so the install happens once per user dir (the session fixture
+``blender_user_dir`` in conftest.py does it once per test session).
+
+Writing a snippet for ``run_in_blender``: plain Python run with ``exec`` after bpy is
+imported. Pre-defined names:
+    bpy       the bpy module
+    RESULT    an empty dict; fill it (or rebind it) with JSON-serialisable values;
+              ``run_in_blender`` returns it
+    EXT       the installed add-on's module name, "bl_ext.user_default.line_quadric_lod"
+    EXT_PKG   that package (the extension root module) when installed, else None
+    REPO_ROOT the checkout as a string; it is appended to sys.path, so ``import core``
+              gives the development copy of the pure-NumPy core
+An uncaught exception in the snippet makes ``run_in_blender`` raise ``BlenderError``
+carrying the child's traceback and output tail.
+
+Unregister what you register: measured with bpy 4.5, a class registered by hand (outside
+an add-on's register()) and left registered makes the interpreter hang at exit. The
+harness kills a child that has not exited EXIT_GRACE_SECONDS after its snippet finished
+and raises BlenderError saying so. Add-ons enabled through preferences are unregistered
+by Blender at exit and do not hang.
+
+Example::
+
+    from bpy_harness import run_in_blender
+    def test_ops(blender_user_dir):
+        r = run_in_blender('''
+    bpy.ops.mesh.primitive_monkey_add()
+    RESULT["faces"] = len(bpy.context.active_object.data.polygons)
+    ''', user_dir=blender_user_dir)
+        assert r["faces"] == 500
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+EXTENSION_ID = "line_quadric_lod"
+REPO_MODULE = "user_default"
+EXT_MODULE = f"bl_ext.{REPO_MODULE}.{EXTENSION_ID}"
+
+_INSTALL_MARKER = "line_quadric_lod.installed"
+# How long a child may take to exit after the snippet wrote RESULT (normal: < 1 s).
+EXIT_GRACE_SECONDS = 30
+
+
+class BlenderError(RuntimeError):
+    """A Blender child process (or the extension tool) failed."""
+
+
+def bpy_scripts_dir() -> Path:
+    """The ``scripts`` folder inside the installed bpy wheel, found without importing bpy."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("bpy")
+    if spec is None or not spec.submodule_search_locations:
+        raise BlenderError("the bpy module is not installed in this interpreter: run ./lod.sh test")
+    pkg = Path(next(iter(spec.submodule_search_locations)))
+    found = sorted(pkg.glob("[0-9]*.[0-9]*/scripts"))
+    if not found:
+        raise BlenderError(f"no <version>/scripts folder in the bpy package at {pkg}")
+    return found[-1]
+
+
+def blender_ext_tool() -> Path:
+    """Blender's own extension tool (same code as ``blender -c extension ...``)."""
+    return bpy_scripts_dir() / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
+
+
+def blender_valid_tags() -> Path:
+    """The tag list ``blender -c extension build/validate`` enforces (blender_ext.py alone does not)."""
+    return bpy_scripts_dir() / "modules" / "_bpy_internal" / "extensions" / "tags.py"
+
+
+def isolated_blender_env(tmp_dir) -> dict:
+    """Environment overrides that keep Blender inside ``tmp_dir`` (creates the folders).
+
+    Returns only the overrides; merge them into ``os.environ`` for a child process.
+    HOME is redirected too, so nothing can fall back to the real ``~/.config/blender``.
+    """
+    base = Path(tmp_dir).resolve()
+    dirs = {
+        "BLENDER_USER_RESOURCES": base,
+        "BLENDER_USER_CONFIG": base / "config",
+        "BLENDER_USER_SCRIPTS": base / "scripts",
+        "BLENDER_USER_DATAFILES": base / "datafiles",
+        "BLENDER_USER_EXTENSIONS": base / "extensions",
+        "HOME": base / "home",
+    }
+    for d in dirs.values():
+        d.mkdir(parents=True, exist_ok=True)
+    env = {k: str(v) for k, v in dirs.items()}
+    env["PYTHONNOUSERSITE"] = "1"
+    return env
+
+
+def _run_tool(args: list[str], timeout: float = 120) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, str(blender_ext_tool()), *args]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    if proc.returncode != 0:
+        raise BlenderError(
+            f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
+        )
+    return proc
+
+
+def validate(source=REPO_ROOT) -> str:
+    """Validate a source folder or a built zip with the official tool and Blender's tag list.
+
+    Returns the tool's output; raises BlenderError on any validation error.
+    """
+    return _run_tool(["validate", str(source), "--valid-tags", str(blender_valid_tags())]).stdout
+
+
+def build_extension_zip(out_dir, source_dir=REPO_ROOT) -> Path:
+    """Build ``line_quadric_lod-<version>.zip`` into ``out_dir`` with the official tool."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    _run_tool([
+        "build",
+        "--source-dir", str(source_dir),
+        "--output-dir", str(out),
+        "--valid-tags", str(blender_valid_tags()),
+    ])
+    zips = sorted(out.glob(f"{EXTENSION_ID}-*.zip"), key=lambda p: p.stat().st_mtime)
+    if not zips:
+        raise BlenderError(f"the extension tool reported success but wrote no zip into {out}")
+    return zips[-1]
+
+
+# The child's prologue. Kept free of test logic: it imports bpy, restores the saved
+# preferences (which enable the installed extension), runs the snippet and writes RESULT.
+_PROLOGUE = r'''
+import json, sys, traceback
+_result_path, _repo_root, _load_prefs = sys.argv[1], sys.argv[2], sys.argv[3] == "1"
+sys.path.append(_repo_root)
+import bpy
+if _load_prefs:
+    bpy.ops.wm.read_userpref()
+_ns = {"__name__": "__main__", "bpy": bpy, "RESULT": {}, "EXT": %(ext)r,
+       "REPO_ROOT": _repo_root, "EXT_PKG": sys.modules.get(%(ext)r)}
+try:
+    exec(compile(open(sys.argv[4], encoding="utf-8").read(), sys.argv[4], "exec"), _ns)
+    _out = {"ok": True, "result": _ns["RESULT"]}
+    json.dumps(_out)
+except BaseException:
+    _out = {"ok": False, "traceback": traceback.format_exc()}
+with open(_result_path + ".tmp", "w", encoding="utf-8") as _fh:
+    json.dump(_out, _fh)
+import os
+os.replace(_result_path + ".tmp", _result_path)
+sys.exit(0 if _out["ok"] else 1)
+'''
+
+
+def _tail(path: Path, n: int) -> str:
+    try:
+        return path.read_text(encoding="utf-8", errors="replace")[-n:]
+    except FileNotFoundError:
+        return ""
+
+
+def _run_child(code: str, user_dir: Path, timeout: float, load_prefs: bool) -> dict:
+    user_dir = Path(user_dir)
+    work = user_dir / "runs"
+    work.mkdir(parents=True, exist_ok=True)
+    tag = f"{os.getpid()}_{os.urandom(6).hex()}"
+    files = {k: work / f"{k}_{tag}{ext}" for k, ext in (
+        ("prologue", ".py"), ("snippet", ".py"), ("result", ".json"), ("stdout", ".txt"), ("stderr", ".txt"))}
+    files["prologue"].write_text(_PROLOGUE % {"ext": EXT_MODULE}, encoding="utf-8")
+    files["snippet"].write_text(textwrap.dedent(code), encoding="utf-8")
+    env = {**os.environ, **isolated_blender_env(user_dir)}
+    cmd = [sys.executable, str(files["prologue"]), str(files["result"]), str(REPO_ROOT),
+           "1" if load_prefs else "0", str(files["snippet"])]
+    try:
+        with open(files["stdout"], "wb") as out, open(files["stderr"], "wb") as err:
+            proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env, cwd=str(work))
+            start = time.monotonic()
+            finished_at = None
+            while proc.poll() is None:
+                now = time.monotonic()
+                if finished_at is None and files["result"].exists():
+                    finished_at = now
+                if finished_at is not None and now - finished_at > EXIT_GRACE_SECONDS:
+                    # Measured with bpy 4.5: a class registered by hand (not through an
+                    # add-on's register()) and left registered makes interpreter exit hang.
+                    proc.kill()
+                    proc.wait()
+                    raise BlenderError(
+                        f"the snippet finished but Blender did not exit within {EXIT_GRACE_SECONDS} s; "
+                        "usually a bpy class registered outside an add-on was left registered.\n"
+                        f"--- stderr (tail) ---\n{_tail(files['stderr'], 4000)}")
+                if now - start > timeout:
+                    proc.kill()
+                    proc.wait()
+                    raise BlenderError(
+                        f"Blender snippet timed out after {timeout} s.\n"
+                        f"--- stderr (tail) ---\n{_tail(files['stderr'], 4000)}\n"
+                        f"--- stdout (tail) ---\n{_tail(files['stdout'], 2000)}")
+                time.sleep(0.05)
+        report = json.loads(files["result"].read_text(encoding="utf-8")) if files["result"].exists() else None
+        if report is None or not report["ok"] or proc.returncode != 0:
+            raise BlenderError(
+                f"Blender snippet failed (exit {proc.returncode}).\n"
+                + (f"--- snippet traceback ---\n{report['traceback']}\n" if report and not report["ok"] else "")
+                + f"--- stderr (tail) ---\n{_tail(files['stderr'], 6000)}\n"
+                f"--- stdout (tail) ---\n{_tail(files['stdout'], 3000)}"
+            )
+        return report["result"]
+    finally:
+        for p in (*files.values(), files["result"].with_name(files["result"].name + ".tmp")):
+            p.unlink(missing_ok=True)
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def install_extension(zip_path, user_dir, timeout: float = 300) -> dict:
+    """Install + enable the zip in ``user_dir`` and save the preferences; once per zip.
+
+    Returns what the install child reported ({"enabled": bool, "installed_dir": str}).
+    """
+    user_dir = Path(user_dir)
+    marker = user_dir / _INSTALL_MARKER
+    digest = _sha256(zip_path)
+    if marker.exists():
+        saved = json.loads(marker.read_text(encoding="utf-8"))
+        if saved.get("sha256") == digest:
+            return saved["report"]
+    report = _run_child(
+        f"""
+        r = bpy.ops.extensions.package_install_files(
+            filepath={str(Path(zip_path).resolve())!r}, repo={REPO_MODULE!r}, enable_on_install=True)
+        if r != {{"FINISHED"}}:
+            raise RuntimeError("package_install_files returned %r" % (r,))
+        enabled = EXT in {{a.module for a in bpy.context.preferences.addons}}
+        if not enabled:
+            raise RuntimeError(EXT + " was installed but is not enabled")
+        bpy.ops.wm.save_userpref()
+        import sys
+        RESULT["enabled"] = enabled
+        RESULT["installed_dir"] = __import__("os").path.dirname(sys.modules[EXT].__file__)
+        """,
+        user_dir,
+        timeout,
+        load_prefs=False,
+    )
+    marker.write_text(json.dumps({"sha256": digest, "report": report}), encoding="utf-8")
+    return report
+
+
+def run_in_blender(code: str, *, user_dir, timeout: float = 600, install: bool = True,
+                   zip_path=None) -> dict:
+    """Run ``code`` in a fresh bpy child with isolated user dirs; return its ``RESULT`` dict.
+
+    install=True: the extension is installed in ``user_dir`` (built from this checkout
+    unless ``zip_path`` is given, and only if not installed there already) and enabled
+    through the saved preferences before ``code`` runs. install=False: factory Blender,
+    the extension is not loaded (``import core`` still works).
+    Raises BlenderError with the child's stderr tail if the snippet fails.
+    """
+    user_dir = Path(user_dir)
+    if install:
+        if zip_path is None and not (user_dir / _INSTALL_MARKER).exists():
+            zip_path = build_extension_zip(user_dir / "dist")
+        if zip_path is not None:
+            install_extension(zip_path, user_dir)
+    return _run_child(code, user_dir, timeout, load_prefs=install)
