@@ -659,7 +659,7 @@ def select_objects(scene, names) -> tuple:
                 available = ", ".join(sorted(o.name for o in meshes)[:12]) or "none"
                 problems.append(f'object "{name}" not found (mesh objects: {available})')
             elif ob.type != 'MESH':
-                problems.append(f'"{name}" is {ob.type.lower()} object, not a mesh')
+                problems.append(f'"{name}" is not a mesh object (its type is {ob.type})')
             elif lod.LEVEL_PROP in ob:
                 problems.append(f'"{name}" is a LOD made by an earlier run, not a source')
             else:
@@ -811,10 +811,9 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     for ob, (source, group, note) in zip(objects, importance_choice(objects, args)):
         settings = dataclasses.replace(base, importance_source=source, importance_group=group)
         try:
-            if args.faces is not None:
-                settings.target_triangles, settings.levels = args.faces[0], 1
-            else:
-                settings.ratio, settings.levels = (args.ratios or DEFAULT_RATIOS)[0], 1
+            # prepare() checks a geometric chain from these fields; ours is replaced right
+            # after by the exact --ratios/--faces chain, with messages naming the options.
+            settings.ratio, settings.levels, settings.target_triangles = 0.5, 1, 0
             lod_input = lod.prepare(bpy.context, ob, settings)
             lod_input.targets = targets_for(args, len(lod_input.data.faces))
         except LodError as ex:
