@@ -34,3 +34,11 @@ def blender_user_dir(tmp_path_factory, extension_zip) -> Path:
     user_dir = tmp_path_factory.mktemp("blender_user")
     bpy_harness.install_extension(extension_zip, user_dir)
     return user_dir
+
+
+def pytest_collection_modifyitems(config, items):
+    # `./lod.sh test -m "not blender"` skips the bpy subprocess tests that use the shared
+    # install; tests that start Blender some other way mark themselves.
+    for item in items:
+        if {"blender_user_dir", "extension_zip"} & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.blender)
