@@ -336,3 +336,20 @@ def test_sample_demo_writes_blend_and_glb_and_prints_the_table(sample, reimporte
 def test_no_temporary_files_left(batches, sample):
     for folder in [run["out"] for run in batches.values()] + [sample["out"]]:
         assert not [p.name for p in folder.iterdir() if p.name.startswith(".")], folder
+
+
+def test_script_mode_takes_the_options_after_double_dash(work):
+    """``blender -b -P addon/cli.py -- [options]``: Blender has bpy loaded when it runs the
+    script and leaves its own arguments in sys.argv; mimicked here with the bpy module."""
+    script = str(REPO_ROOT / "addon" / "cli.py")
+    report = work / "script.json"
+    argv = ["blender", "-b", "-P", script, "--", "--input", str(work / "in" / "a.obj"), str(work / "in" / "broken.glb"),
+            "--ratios", "0.5", "--no-measure", "--report", str(report), "--quiet"]
+    code = f"import bpy, runpy, sys\nsys.argv = {argv!r}\nrunpy.run_path({script!r}, run_name='__main__')\n"
+    env = {**os.environ, **isolated_blender_env(work / "user")}
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=work, env=env, timeout=300)
+    assert proc.returncode == 1, proc.stderr[-3000:]  # sys.exit() carries the status out of the script
+    data = json.loads(report.read_text())
+    assert [f["ok"] for f in data["files"]] == [True, False]
+    assert [lv["triangles"] for lv in data["files"][0]["objects"][0]["levels"]] == [2208, 1104]
+    assert "Ball_LOD1" in table_rows(proc.stdout)

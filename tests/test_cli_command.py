@@ -129,6 +129,12 @@ try:
 finally:
     cli._export = real_export
 R["good_unchanged"] = digest(good) == before
+# a re-run on its own output replaces the LODs instead of making LODs of LODs
+again = os.path.join(W, "again.blend")
+R["rerun"] = call("--input", good, "--ratios", "0.25", "--output", again, "--lod-group", "--quiet")
+bpy.ops.wm.open_mainfile(filepath=again)
+R["rerun_objects"] = sorted(ob.name for ob in bpy.context.scene.objects)
+R["rerun_meshes"] = meshes()
 R["leftovers"] = sorted(n for n in os.listdir(W) if n.startswith("."))
 R["bogus"] = call("--bogus")
 R["help"] = call("--help")
@@ -214,3 +220,12 @@ def test_bad_option_and_help_through_the_handler(result):
         "error: unrecognized arguments: --bogus (see blender -b [scene.blend] -c line_quadric_lod --help)"]
     assert result["help"]["code"] == 0
     assert result["help"]["stdout"].startswith("usage: blender -b [scene.blend] -c line_quadric_lod")
+
+
+def test_rerun_on_its_own_output_replaces_the_lods(result):
+    assert result["rerun"]["code"] == 0, result["rerun"]
+    assert result["rerun_objects"] == ["Camera", "Rock_LOD0", "Rock_LOD1", "Rock_LODGroup",
+                                       "Slab_LOD0", "Slab_LOD1", "Slab_LODGroup"]
+    meshes = result["rerun_meshes"]
+    assert meshes["Rock_LOD1"]["triangles"] == 320 and meshes["Rock_LOD0"]["triangles"] == 1280
+    assert meshes["Rock_LOD1"]["parent"] == "Rock_LODGroup"
