@@ -400,3 +400,33 @@ def assert_target_respected(r, target):
     else:
         assert r.stats.stop_reason in ("no_valid_collapse", "max_error_reached")
         assert m > target, (m, target, r.stats.stop_reason)
+
+
+def seam_branches(n, seams):
+    """Split a seam graph into branches: chains between its special vertices (ends and
+    junctions, degree != 2). Returns (vertex, branch) incidence pairs, one per branch a
+    vertex lies on (junctions and ends lie on several)."""
+    deg = np.bincount(seams.ravel(), minlength=n)
+    plain = deg == 2
+    inner = seams[plain[seams[:, 0]] & plain[seams[:, 1]]]
+    comp = component_labels(n, inner)
+    a, b = seams[:, 0], seams[:, 1]
+    label = np.where(plain[a], comp[a], np.where(plain[b], comp[b], n + np.arange(len(seams))))
+    pairs = np.unique(np.c_[np.r_[a, b], np.r_[label, label]], axis=0)
+    return pairs[:, 0], pairs[:, 1]
+
+
+def edges_along_branches(edges, inc_vertex, inc_branch):
+    """(k,) bool: whether both ends of each edge (in input vertex numbers) lie on one
+    common seam branch, i.e. the edge follows a single input seam polyline."""
+    big = np.int64(inc_branch.max() + 1) if len(inc_branch) else np.int64(1)
+    keys = inc_vertex * big + inc_branch
+    order = np.argsort(inc_vertex, kind="stable")
+    sv, sb = inc_vertex[order], inc_branch[order]
+    start = np.searchsorted(sv, edges[:, 0], side="left")
+    stop = np.searchsorted(sv, edges[:, 0], side="right")
+    count = stop - start
+    owner = np.repeat(np.arange(len(edges)), count)
+    rows = np.repeat(start, count) + (np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count))
+    hit = np.isin(edges[owner, 1] * big + sb[rows], keys)
+    return np.bincount(owner[hit], minlength=len(edges)) > 0
