@@ -10,13 +10,31 @@ STAMP="$VENV/.requirements.sha256"
 PY="${PYTHON:-python3.11}"
 command -v "$PY" >/dev/null 2>&1 || PY=python3
 
+_env_ready() {
+  [ -x "$VENV/bin/python" ] && [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$1" ]
+}
+
 ensure_env() {
   local want
   want="$(sha256sum "$REQ" | cut -d' ' -f1)"
-  if [ -x "$VENV/bin/python" ] && [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$want" ]; then
-    return 0
+  _env_ready "$want" && return 0
+  # Two commands started together (e.g. tests and demo) must not pip-install into the
+  # same venv at once: the second waits, then finds the env ready.
+  mkdir -p "$VENV"
+  if command -v flock >/dev/null 2>&1; then
+    exec 9>"$VENV/.provision.lock"
+    flock 9
   fi
-  local ver
+  if ! _env_ready "$want"; then
+    _provision "$want"
+  fi
+  if command -v flock >/dev/null 2>&1; then
+    exec 9>&-
+  fi
+}
+
+_provision() {
+  local want="$1" ver
   ver="$("$PY" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
   if [ "$ver" != "3.11" ]; then
     echo "error: the bpy module for Blender 4.5 needs Python 3.11, found $PY = $ver" >&2
@@ -31,7 +49,10 @@ ensure_env() {
     }
   fi
   "$VENV/bin/python" -m pip install --quiet --upgrade pip >&2
-  "$VENV/bin/python" -m pip install --quiet -r "$REQ" >&2
+  "$VENV/bin/python" -m pip install --quiet -r "$REQ" >&2 || {
+    echo "error: installing $REQ failed (network access to PyPI is needed on the first run)" >&2
+    exit 2
+  }
   echo "$want" > "$STAMP"
   echo "[env] ready" >&2
 }
