@@ -354,3 +354,21 @@ def test_feature_weight_zero_is_no_feature():
     _, _, loop, plain, _ = _loop_run(0.1)
     _, _, _, zero, _ = _loop_run(0.1, feature_edges=loop, feature_weight=0.0)
     assert zero.faces.tobytes() == plain.faces.tobytes()
+
+
+def test_carried_data_is_deterministic():
+    V, F, UV = mg.uv_sphere(20, 12)
+    rng = np.random.default_rng(1)
+    skin = rng.dirichlet(np.ones(3), size=len(V))
+    col = rng.uniform(size=(len(F), 3, 4))
+    runs = [core.simplify(V, F, ratio=0.2, seed=3, vertex_attributes={"skin": skin}, normalize_attributes=("skin",),
+                          corner_attributes={"uv": UV, "col": col}, uv_attributes=("uv",),
+                          feature_edges=mg.seam_edges(F, UV), feature_weight=5.0) for _ in range(2)]
+    a, b = runs
+    assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
+    assert a.vertex_attributes["skin"].tobytes() == b.vertex_attributes["skin"].tobytes()
+    for name in ("uv", "col"):
+        assert a.corner_attributes[name].tobytes() == b.corner_attributes[name].tobytes()
+    # A second corner attribute comes back indexed like the faces, values within range.
+    assert a.corner_attributes["col"].shape == (len(a.faces), 3, 4)
+    assert a.corner_attributes["col"].min() >= col.min() and a.corner_attributes["col"].max() <= col.max()
