@@ -136,6 +136,7 @@ bpy.ops.wm.open_mainfile(filepath=again)
 R["rerun_objects"] = sorted(ob.name for ob in bpy.context.scene.objects)
 R["rerun_meshes"] = meshes()
 R["leftovers"] = sorted(n for n in os.listdir(W) if n.startswith("."))
+R["still_enabled"] = EXT in {a.module for a in bpy.context.preferences.addons}  # after every fresh scene
 R["bogus"] = call("--bogus")
 R["help"] = call("--help")
 '''
@@ -212,6 +213,10 @@ def test_failures_are_one_line_and_never_touch_a_good_file(result):
     for run in (bad, impossible, export):
         assert "Traceback" not in run["stderr"] + run["stdout"]
         assert "FAILED" in run["stdout"]
+
+
+def test_fresh_scenes_between_inputs_keep_the_extension_enabled(result):
+    assert result["still_enabled"]
 
 
 def test_bad_option_and_help_through_the_handler(result):
