@@ -15,6 +15,8 @@ import pytest
 
 from bpy_harness import REPO_ROOT, isolated_blender_env, run_in_blender
 
+pytestmark = [pytest.mark.blender, pytest.mark.slow]
+
 RATIOS = ["0.5", "0.2"]
 GOOD = {"a.obj": ["Ball"], "rig.glb": ["Arm"], "scene.blend": ["Rock", "Slab"]}
 FORMATS = ["blend", "glb"]

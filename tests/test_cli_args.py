@@ -81,6 +81,7 @@ def test_each_problem_gets_its_own_line(tmp_path):
     assert "Traceback" not in err
 
 
+@pytest.mark.blender  # finding that no .blend is open imports bpy
 def test_nothing_to_write_and_no_input(tmp_path):
     code, _, err = run_cli(tmp_path, "--sample")
     assert code == 2
