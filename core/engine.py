@@ -59,6 +59,7 @@ class State:
     cost_cache: object = None  # (edge keys, keep, position, cost) of the last pass
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
     kind: object = None  # last pass's vertex kinds
+    moved: object = None  # (n,) vertices that were ever given a new position
     max_error_seen: float = 0.0
 
 
@@ -82,6 +83,7 @@ def run(p: Problem) -> list:
         rejected_keys=np.zeros(0, dtype=np.int64), rejected_pass=np.zeros(0, dtype=np.int64),
         half_edge_order=conn.half_edge_order,
         changed=np.zeros(n, dtype=bool),
+        moved=np.zeros(n, dtype=bool),
     )
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
@@ -223,6 +225,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         s.wedges.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
     s.changed = np.zeros(len(s.V), dtype=bool)
     s.changed[keep] = True
+    s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
     s.V[keep] = pos
     s.Q[keep] += s.Q[remove]
     s.area[keep] += s.area[remove]
@@ -246,7 +249,9 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
     used = np.zeros(len(s.V), dtype=bool)
     used[s.F.ravel()] = True
     new_index = np.cumsum(used) - 1
-    vertices = s.V[used] * p.scale + p.center
+    # Unmoved vertices (locked ones among them) come back exactly as given, not through
+    # the normalisation round trip.
+    vertices = np.where(s.moved[used, None], s.V[used] * p.scale + p.center, p.input_positions[used])
     faces = new_index[s.F]
     vattrs = {}
     col = 0

@@ -18,6 +18,7 @@ from .weld import weld_map
 @dataclass
 class Problem:
     vertices: np.ndarray  # normalised: centred on the bounding box, unit diagonal
+    input_positions: np.ndarray  # as given: vertices that never move come back bit-exact
     faces: np.ndarray
     face_origin: np.ndarray
     vertex_origin: np.ndarray
@@ -141,6 +142,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
 
     return Problem(
         vertices=vn,
+        input_positions=v,
         faces=fw[keep],
         face_origin=face_origin,
         vertex_origin=np.arange(n),

@@ -2,19 +2,61 @@
 normal) become one surface that can be simplified as the closed shape it is."""
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
+
+_NEIGHBOUR_OFFSETS = np.array(list(itertools.product((-1, 0, 1), repeat=3)), dtype=np.int64)
 
 
 def weld_map(vertices: np.ndarray, distance) -> np.ndarray:
     """(n,) index of the representative each vertex is welded to (itself if none).
 
-    distance: None welds exactly coincident positions; a positive value snaps positions
-    to a grid of that size first (vertices closer than it usually share a cell; pairs
-    straddling a cell border are left apart); negative disables welding.
+    distance: None welds exactly coincident positions; a positive value welds vertices
+    closer than it (transitively); negative disables welding.
     """
     n = len(vertices)
     if n == 0 or (distance is not None and distance < 0):
         return np.arange(n)
-    key = vertices if not distance else np.floor(vertices / float(distance))
-    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    return first[inverse.reshape(-1)]
+    if not distance:
+        _, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
+        return first[inverse.reshape(-1)]
+    return _weld_within(vertices, float(distance))
+
+
+def _weld_within(vertices: np.ndarray, distance: float) -> np.ndarray:
+    """Grid cells of size ``distance``: vertices in one cell weld; neighbouring cells
+    (the 26 around) weld where their first vertices are within ``distance``, so pairs
+    straddling a cell border are not missed. Cells are joined by label propagation."""
+    cells = np.floor(vertices / distance).astype(np.int64)
+    cells -= cells.min(axis=0) - 1  # leave room for the -1 offsets
+    extent = cells.max(axis=0) + 2
+    if float(np.prod(extent.astype(np.float64))) >= 2.0**62:
+        raise ValueError(f"weld_distance {distance} is too small for this mesh's extent")
+    stride = np.array([extent[1] * extent[2], extent[2], 1], dtype=np.int64)
+    keys = cells @ stride
+    cell_keys, first, cell_of = np.unique(keys, return_index=True, return_inverse=True)
+    cell_of = cell_of.reshape(-1)
+    rep = vertices[first]
+
+    pairs = []
+    for offset in _NEIGHBOUR_OFFSETS @ stride:
+        if offset <= 0:
+            continue  # each neighbouring pair once
+        at = np.searchsorted(cell_keys, cell_keys + offset)
+        at = np.minimum(at, len(cell_keys) - 1)
+        hit = np.flatnonzero(cell_keys[at] == cell_keys + offset)
+        close = np.linalg.norm(rep[hit] - rep[at[hit]], axis=1) <= distance
+        pairs.append(np.stack([hit[close], at[hit][close]], axis=1))
+    pairs = np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
+
+    label = np.arange(len(cell_keys))
+    while len(pairs):
+        low = np.minimum(label[pairs[:, 0]], label[pairs[:, 1]])
+        before = label.copy()
+        np.minimum.at(label, pairs[:, 0], low)
+        np.minimum.at(label, pairs[:, 1], low)
+        label = label[label]  # pointer jumping
+        if np.array_equal(label, before):
+            break
+    return first[label[cell_of]]
