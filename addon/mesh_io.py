@@ -286,9 +286,10 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         for uv_name, corners in data.uv_maps.items():
             layer = mesh.uv_layers.new(name=uv_name, do_init=False)
             layer.uv.foreach_set("vector", np.asarray(corners, dtype=np.float32).reshape(-1))
-        if data.uv_active in mesh.uv_layers:
+        # Names may be None (a mesh without UV maps); the collection only takes strings.
+        if data.uv_active and data.uv_active in mesh.uv_layers:
             mesh.uv_layers.active = mesh.uv_layers[data.uv_active]
-        if data.uv_render in mesh.uv_layers:
+        if data.uv_render and data.uv_render in mesh.uv_layers:
             mesh.uv_layers[data.uv_render].active_render = True
 
         for layer in data.colors:
