@@ -110,6 +110,8 @@ def op_state():
 RESULT["enabled"] = EXT in {a.module for a in bpy.context.preferences.addons}
 RESULT["ext_file"] = getattr(EXT_PKG, "__file__", None)
 RESULT["user_ext_dir"] = bpy.utils.user_resource("EXTENSIONS")
+RESULT["user_paths"] = [bpy.utils.user_resource(k) for k in ("CONFIG", "SCRIPTS", "DATAFILES", "EXTENSIONS")]
+RESULT["user_paths"].append(os.path.expanduser("~"))
 RESULT["ext_modules_outside"] = sorted(
     name for name, m in list(sys.modules.items())
     if name.startswith(EXT) and getattr(m, "__file__", None)
@@ -131,7 +133,9 @@ def installed(blender_user_dir):
 def test_extension_installs_into_isolated_user_dir_and_is_enabled(installed):
     r, user_dir = installed
     assert r["enabled"], "the extension is not enabled after reading the saved preferences"
-    assert Path(r["user_ext_dir"]).resolve().is_relative_to(user_dir.resolve())
+    assert all(p and Path(p).is_absolute() for p in r["user_paths"]), r["user_paths"]
+    outside = [p for p in r["user_paths"] if not Path(p).resolve().is_relative_to(user_dir.resolve())]
+    assert not outside, f"Blender user paths outside the isolated dir: {outside}"
     expected = user_dir.resolve() / "extensions" / "user_default" / "line_quadric_lod" / "__init__.py"
     assert r["ext_file"] and Path(r["ext_file"]).resolve() == expected
     assert r["ext_modules_outside"] == [], "extension modules loaded from outside the install"
