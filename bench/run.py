@@ -49,6 +49,16 @@ def log(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
+def run_blender(vertices, faces, ratio, repeat):
+    """Blender's Decimate best of ``repeat`` evaluations; returns the Decimated output."""
+    best = None
+    for _ in range(max(1, repeat)):
+        dec = decimate(vertices, faces, ratio)
+        if best is None or dec.seconds < best.seconds:
+            best = dec
+    return best
+
+
 def run_core(vertices, faces, ratio, line_weight, repeat):
     """core.simplify best of ``repeat`` wall-clock runs; returns (result, seconds)."""
     import core
@@ -78,8 +88,8 @@ def measured_row(mesh_name, input_faces, ratio, method, src_v, src_f, out_v, out
 def bench_mesh(name, vertices, faces, ratios, args) -> list:
     rows = []
     for ratio in ratios:
-        log(f"  {name} @ {ratio:g}: Blender Decimate ...")
-        dec = decimate(vertices, faces, ratio)
+        log(f"  {name} @ {ratio:g}: Blender Decimate (best of {args.repeat}) ...")
+        dec = run_blender(vertices, faces, ratio, args.repeat)
         blender = measured_row(name, len(faces), ratio, "Blender Decimate", vertices, faces,
                                dec.vertices, dec.faces, dec.seconds, args.samples)
         rows.append(blender)
@@ -121,6 +131,8 @@ def bench_big(mesh_dir: Path, args) -> tuple:
     name = f"{src.stem} x16 (subdivided twice)"
     log(f"big mesh: {name}, {len(f):,} faces")
     rows = bench_mesh(name, v, f, [BIG_RATIO], args)
+    for row in rows:
+        row["big"] = True
     memory = None
     if not args.skip_core:
         log("  core.simplify peak memory in a child process ...")
@@ -175,10 +187,15 @@ def criteria(rows, memory=None, big_name=None) -> list:
             out.append((c["time_ratio"] <= limit,
                         f"{tag}: core time {c['seconds']:.3f} s = {c['time_ratio']:.2f}x Blender's "
                         f"{b['seconds']:.3f} s (limit {limit:.1f}x)"))
-        if mesh == big_name and memory is not None:
-            out.append((memory["peak_rss_mb"] <= BIG_MEMORY_LIMIT_MB,
-                        f"{tag}: core peak RSS {memory['peak_rss_mb']:.0f} MB "
-                        f"(limit {BIG_MEMORY_LIMIT_MB:.0f} MB; child process, ru_maxrss)"))
+        if mesh == big_name:
+            # Issue 3 sets only speed and memory for the generated mesh: its quality
+            # criteria are for the meshes in the directory (and Decimate can rebuild the
+            # original, flat-faced ogre from it almost exactly, a degenerate comparison).
+            if memory is not None:
+                out.append((memory["peak_rss_mb"] <= BIG_MEMORY_LIMIT_MB,
+                            f"{tag}: core peak RSS {memory['peak_rss_mb']:.0f} MB "
+                            f"(limit {BIG_MEMORY_LIMIT_MB:.0f} MB; child process, {memory['source']})"))
+            continue
         for key, label in (("hausdorff_percent", "Hausdorff"), ("mean_percent", "mean distance")):
             out.append((c[key] <= DISTANCE_FACTOR * b[key],
                         f"{tag}: {label} {c[key]:.4f} % vs Blender {b[key]:.4f} % "
@@ -209,6 +226,7 @@ def environment() -> dict:
         "date": datetime.datetime.now().isoformat(timespec="seconds"),
         "commit": commit, "blender": bpy.app.version_string, "numpy": np.__version__,
         "python": platform.python_version(), "cpu": cpu, "cpu_count": os.cpu_count(),
+        "load_average": [round(x, 2) for x in os.getloadavg()],
     }
 
 
@@ -218,7 +236,8 @@ def main(argv=None) -> int:
     ap.add_argument("--meshes", type=Path, default=_bootstrap.DEFAULT_MESH_DIR,
                     help="directory of .obj/.gltf/.glb meshes (default: %(default)s)")
     ap.add_argument("--ratios", type=float, nargs="+", default=[0.25, 0.1])
-    ap.add_argument("--repeat", type=int, default=1, help="core runs per case; the best time counts")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="runs per case of each method; the best time counts (default %(default)s)")
     ap.add_argument("--line-weight", type=float, default=1e-3)
     ap.add_argument("--samples", type=int, default=DEFAULT_SAMPLES,
                     help="area-uniform samples per surface for the distances (default %(default)s)")
@@ -229,6 +248,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", type=Path, help="also write every row and the environment as JSON")
     ap.add_argument("--write-docs", action="store_true", help="write the table to docs/benchmarks.md")
     args = ap.parse_args(argv)
+    load_start = [round(x, 2) for x in os.getloadavg()]
 
     if not args.skip_core:
         try:
@@ -260,12 +280,17 @@ def main(argv=None) -> int:
         rows += big_rows
 
     env = environment()
+    env["load_average_start"] = load_start
     table = markdown_table(rows)
     checks = criteria(rows, memory, big_name)
     check_lines = [f"{'PASS' if ok else 'FAIL'} {text}" for ok, text in checks]
     notes = [f"skipped {name}: {why}" for name, why in skipped]
+    # Times are wall clock on a shared machine: say how busy it was.
+    notes.append(f"load average (1/5/15 min) at start {load_start}, at end {env['load_average']} "
+                 f"on {env['cpu_count']} cores")
     if memory is not None:
-        notes.append(f"core peak memory on the big mesh: {memory['peak_rss_mb']:.0f} MB peak RSS of a child "
+        notes.append(f"core peak memory on the big mesh: {memory['peak_rss_mb']:.0f} MB peak RSS "
+                     f"({memory['source']}) of a child "
                      f"process running only core.simplify ({memory['before_rss_mb']:.0f} MB before the call: "
                      f"interpreter, NumPy, input arrays); simplify took {memory['seconds']:.2f} s there")
     print(table)
@@ -281,7 +306,8 @@ def main(argv=None) -> int:
             "# Benchmarks", "",
             f"Generated by `.venv/bin/python {cmd.strip()}` on {env['date']} "
             f"(commit {env['commit']}; Blender {env['blender']} as the bpy module, NumPy {env['numpy']}, "
-            f"Python {env['python']}; {env['cpu']}, {env['cpu_count']} cores).", "",
+            f"Python {env['python']}; {env['cpu']}, {env['cpu_count']} cores; "
+            f"load average {env['load_average_start'][0]} at start).", "",
             "core.simplify (line_weight 1e-3) and Blender's Decimate modifier (Collapse) run in the same "
             "process on the same triangles. Distances are two-sided, in % of the input's bounding-box "
             "diagonal; q is triangle quality (1 = equilateral). Columns are explained in "
