@@ -15,6 +15,7 @@ from . import topology
 from .geometry import edge_parameter
 
 MIN_UV_DOUBLE_AREA = 1e-18
+WEDGE_TOLERANCE = 1e-6  # relative to each column's span (at least 1)
 
 
 class Wedges:
@@ -32,10 +33,16 @@ class Wedges:
             layout[name] = (col, a.shape[2])
             blocks.append(a.reshape(3 * m, a.shape[2]))
             col += a.shape[2]
-        rows = np.concatenate([faces.reshape(-1, 1).astype(np.float64)] + blocks, axis=1)
-        unique_rows, inverse = np.unique(rows, axis=0, return_inverse=True)
+        values = np.concatenate(blocks, axis=1)
+        # Corner values equal up to float32 round-off are one wedge: Blender computes each
+        # corner's UV separately, and treating last-bit differences as seams would make
+        # every vertex a seam vertex and freeze the mesh.
+        span = np.maximum(np.ptp(values, axis=0), 1.0) if len(values) else np.ones(values.shape[1])
+        quantised = np.round(values / (WEDGE_TOLERANCE * span))
+        rows = np.concatenate([faces.reshape(-1, 1).astype(np.float64), quantised], axis=1)
+        _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
         return cls(
-            values=np.ascontiguousarray(unique_rows[:, 1:]),
+            values=np.ascontiguousarray(values[first]),
             corner_wedge=inverse.reshape(m, 3).astype(np.int64),
             layout=layout,
             uv_columns=[layout[name][0] for name in uv_names],
