@@ -26,8 +26,9 @@ loop is a bare list comprehension over a prebuilt tree, and each query is bounde
 search radius taken from an unbounded pilot on a subset (a bounded query prunes most of
 the tree); points with nothing inside the radius are queried again without a bound, so
 the result is still exact. Measured on this machine (2 cores, bpy 4.5), ogre.obj
-(62k vertices, 124k faces) against its 10% LOD with the default 200,000 samples per
-surface: about 1 s per direction (see bench/README.md for the command).
+(124k faces) against its 10% LOD with the default 500,000 samples per surface: about
+1.3-1.9 s per direction when the machine is quiet, 3-4 s when it is busy; the command
+and the numbers are in bench/README.md.
 
 ``mathutils`` is imported inside the functions so this module can be imported without
 Blender (documentation, type checks); only calling it needs bpy's mathutils.
