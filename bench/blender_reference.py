@@ -129,6 +129,8 @@ def load_mesh(path, uv: bool = False) -> Mesh:
         parts.append((v, f + offset, c, p))
         offset += len(v)
     _clear_scene()
+    if sum(len(f) for _, f, _, _ in parts) == 0:
+        raise ValueError(f"{path.name}: the file's meshes have no faces")
     uvs = [c for _, _, c, _ in parts]
     return Mesh(
         name=path.stem,
