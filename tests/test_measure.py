@@ -82,6 +82,35 @@ def test_zero_area_faces_are_never_sampled():
     assert np.all(pts[:, 1] >= 0)
 
 
+class _PlaneTree:
+    """Stands in for a BVHTree of the plane z = 0, with find_nearest's contract: the
+    nearest hit within ``distance``, or a tuple of Nones when there is none."""
+
+    def __init__(self):
+        self.bounded_misses = 0
+
+    def find_nearest(self, co, distance=float("inf")):
+        d = abs(co[2])
+        if d > distance:
+            self.bounded_misses += 1
+            return (None, None, None, None)
+        return ((co[0], co[1], 0.0), (0.0, 0.0, 1.0), 0, d)
+
+
+def test_bounded_queries_fall_back_to_exact_distances():
+    # 99.5 % of the points are close, 0.5 % far away: the pilot's radius excludes the far
+    # ones, which must come back exact from the unbounded re-query, not as NaN or radius.
+    rng = np.random.default_rng(3)
+    z = rng.uniform(0.0, 0.01, 10_000)
+    far = rng.random(10_000) < 0.005
+    z[far] = rng.uniform(5.0, 10.0, far.sum())
+    pts = np.c_[rng.random(10_000), rng.random(10_000), z]
+    tree = _PlaneTree()
+    d = measure._distances(tree, pts)
+    assert tree.bounded_misses >= far.sum()  # the radius really was below the far points
+    np.testing.assert_array_equal(d, z)
+
+
 # ---------------------------------------------------------------- Blender side
 
 _SNIPPET = r'''
@@ -91,10 +120,10 @@ import core
 d = np.load(MESHES)
 def sd(a, b, **kw):
     return measure.surface_deviation(d[a + "_v"], d[a + "_f"], d[b + "_v"], d[b + "_f"], **kw)
-RESULT["identical"] = sd("plane", "plane")
+RESULT["identical"] = sd("plane", "plane", n_samples=20_000)
 RESULT["shifted"] = sd("plane", "shifted", n_samples=20_000)
-RESULT["sphere"] = sd("fine", "coarse")
-RESULT["sphere_swapped"] = sd("coarse", "fine")
+RESULT["sphere"] = sd("fine", "coarse", n_samples=50_000)
+RESULT["sphere_swapped"] = sd("coarse", "fine", n_samples=50_000)
 RESULT["density"] = sd("plane", "shifted", samples_per_unit_area=1000)
 RESULT["report"] = measure.mesh_report(d["fine_v"], d["fine_f"], d["coarse_v"], d["coarse_f"],
                                        n_samples=5000)
