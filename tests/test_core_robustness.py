@@ -26,6 +26,7 @@ def _mean_edge(V, edges):
 
 
 OPEN = {
+    "strip": lambda: mg.grid(24, 1, size=(6.0, 0.25)),  # every inner edge joins two border vertices
     "grid": lambda: mg.grid(16, jitter=0.2),
     "bumpy": lambda: mg.grid(18, 12, size=(3.0, 2.0), height=mg.bumps(0.2, 1.0)),
     "tube": lambda: mg.tube(20, 10),
@@ -53,6 +54,20 @@ def test_open_borders_stay_borders(name, ratio, w):
     assert d.max() < 0.15 * _mean_edge(r.vertices, b), d.max() / _mean_edge(r.vertices, b)
     # No interior vertex became a border one: the border count only shrinks.
     assert len(np.unique(b)) <= len(_boundary_vertices(F))
+
+
+@pytest.mark.parametrize("name", sorted(OPEN))
+@pytest.mark.parametrize("ratio", [0.3, 0.1])
+def test_borders_stay_borders_without_boundary_quadrics(name, ratio):
+    # With boundary_weight 0 nothing makes pinching a border expensive: only the rule
+    # "never collapse an inner edge joining two border vertices" keeps loops apart.
+    V, F = OPEN[name]()
+    r = core.simplify(V, F, ratio=ratio, boundary_weight=0.0)
+    mg.assert_valid_result(r, V, F)
+    b = mg.boundary_edges(r.faces)
+    assert np.all(np.bincount(b.ravel())[np.unique(b)] == 2), "a border vertex got pinched"
+    assert mg.boundary_loops(r.faces) == mg.boundary_loops(F)
+    assert mg.euler_characteristic(r.faces) == mg.euler_characteristic(F)
 
 
 @pytest.mark.parametrize("name", sorted(OPEN))
