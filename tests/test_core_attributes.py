@@ -190,6 +190,14 @@ def test_split_cube_welds_and_simplifies_as_a_closed_shape():
     r = _simplify_uv(V, F, UV, ratio=1.0)
     assert r.stats.welded_vertices == 16
     assert len(r.vertices) == 8 and len(mg.boundary_edges(r.faces)) == 0
+    # Welded, it simplifies as one closed shape (six open quads could not lose a face).
+    r = core.simplify(V, F, ratio=0.5)
+    assert r.stats.welded_vertices == 16 and r.stats.stop_reason == "target_reached"
+    assert len(r.faces) == 6 and len(mg.boundary_edges(r.faces)) == 0 and mg.euler_characteristic(r.faces) == 2
+    # With its UVs every corner is a seam junction (three seams meet) and stays: nothing
+    # can collapse, and the stats say so.
+    r = _simplify_uv(V, F, UV, ratio=0.5)
+    assert len(r.faces) == 12 and r.stats.stop_reason == "no_valid_collapse"
     # Subdivided split cube: welded, simplified closed, seams kept.
     V, F, UV = mg.cube(6, split=True)
     r = _simplify_uv(V, F, UV)
