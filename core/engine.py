@@ -27,7 +27,7 @@ from .result import (
     SimplifyStats,
 )
 from .wedges import Wedges
-from .geometry import edge_parameter
+from .geometry import edge_parameter, face_frames
 
 FREE, SEAM, LOCKED = 0, 1, 2
 # Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
@@ -60,6 +60,7 @@ class State:
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
     kind: object = None  # last pass's vertex kinds
     moved: object = None  # (n,) vertices that were ever given a new position
+    source_normals: object = None  # (input faces, 3) unit normal of every input face
     max_error_seen: float = 0.0
 
 
@@ -84,6 +85,7 @@ def run(p: Problem) -> list:
         half_edge_order=conn.half_edge_order,
         changed=np.zeros(n, dtype=bool),
         moved=np.zeros(n, dtype=bool),
+        source_normals=_source_normals(p),
     )
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
@@ -141,6 +143,13 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(err.max())))
         _apply(s, conn, cand, chosen, pass_no)
     return None
+
+
+def _source_normals(p: Problem) -> np.ndarray:
+    """Unit normals of the input faces, indexed like face_origin."""
+    normals = np.zeros((p.input_faces, 3))
+    normals[p.face_origin] = face_frames(p.vertices, p.faces)[0]
+    return normals
 
 
 def _choose(s: State, conn, cand, n, seed, pass_no) -> np.ndarray:

@@ -3,7 +3,8 @@
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
   opposite the edge, and a closed tetrahedron is never collapsed;
-- no face turns over (new.old normal below MIN_NORMAL_COSINE) or collapses to zero area,
+- no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
+  the input face it descends from) or collapses to zero area,
   and none becomes a sliver (quality below SLIVER_GUARD) worse than it was;
 - no UV triangle flips (delegated to the wedges, when corner data is carried).
 """
@@ -48,6 +49,10 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
     bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    # Small turns add up over passes: no face may end up facing away from the input face
+    # it descends from.
+    source = s.source_normals[s.face_origin[faces]]
+    bad |= ~dying & (np.einsum("ij,ij->i", n_new, source) < 0)
     # Never turn a face into a sliver: the output's worst triangles stay up. A face that
     # already is one may get somewhat worse (not below half its quality), or the
     # slivers of the input would freeze their whole neighbourhood.
