@@ -27,7 +27,7 @@ search radius taken from an unbounded pilot on a subset (a bounded query prunes 
 the tree); points with nothing inside the radius are queried again without a bound, so
 the result is still exact. Measured on this machine (2 cores, bpy 4.5), ogre.obj
 (124k faces) against its 10% LOD with the default 500,000 samples per surface: about
-1.3-1.9 s per direction when the machine is quiet, 3-4 s when it is busy; the command
+1.2-1.6 s per direction when the machine is quiet, about twice that when it is busy; the command
 and the numbers are in bench/README.md.
 
 ``mathutils`` is imported inside the functions so this module can be imported without
