@@ -15,6 +15,7 @@ from . import topology
 from .geometry import edge_parameter
 
 MIN_UV_DOUBLE_AREA = 1e-18
+MIN_UV_AREA_KEPT = 0.05  # a UV triangle may not shrink below this share of its area
 WEDGE_TOLERANCE = 1e-6  # relative to each column's span (at least 1)
 
 
@@ -116,7 +117,10 @@ class Wedges:
             uv_new = np.where((j >= 0)[:, :, None], proposed[np.maximum(j, 0)][:, :, col:col + 2], self.values[after][:, :, col:col + 2])
             a_old = _signed_double_area(uv_old)
             a_new = _signed_double_area(uv_new)
-            flipped = (np.abs(a_old) > MIN_UV_DOUBLE_AREA) & ((a_old * a_new <= 0) | (np.abs(a_new) <= MIN_UV_DOUBLE_AREA))
+            # Flipped, or squashed to a sliver of texture space (positive but collapsed).
+            flipped = (np.abs(a_old) > MIN_UV_DOUBLE_AREA) & (
+                (a_old * a_new <= 0) | (np.abs(a_new) < MIN_UV_AREA_KEPT * np.abs(a_old))
+            )
             bad = ~dying & flipped
             ok &= np.bincount(collapse[bad], minlength=c) == 0
         return ok
