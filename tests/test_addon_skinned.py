@@ -1,0 +1,194 @@
+"""A skinned arm in real Blender: Importance from Armature, LODs that deform with the rig,
+and the posed LOD against Blender's Decimate at the same triangle count.
+
+The test builds its own character: a 3-bone armature and a capped tube "arm" (48 x 64
+vertices, with a narrowing at the elbow), parented with Automatic Weights. One Blender
+child runs everything (module fixture); the tests check its RESULT.
+"""
+import pytest
+
+from bpy_harness import run_in_blender
+
+SNIPPET = r'''
+import importlib, math
+import numpy as np
+
+lod = importlib.import_module(EXT + ".addon.lod")
+measure = importlib.import_module(EXT + ".addon.measure")
+R = RESULT
+for o in list(bpy.data.objects):
+    bpy.data.objects.remove(o)
+scene = bpy.context.scene
+
+def select_only(*obs):
+    for o in bpy.context.view_layer.objects:
+        o.select_set(False)
+    for o in obs:
+        o.select_set(True)
+    bpy.context.view_layer.objects.active = obs[0] if obs else None
+
+bpy.ops.object.armature_add(enter_editmode=True, location=(0, 0, 0))
+arm = bpy.context.active_object
+arm.name = "Rig"
+eb = arm.data.edit_bones
+b0 = eb[0]; b0.name = "Upper"; b0.head = (0, 0, 0); b0.tail = (0, 0, 1.0)
+b1 = eb.new("Lower"); b1.head = (0, 0, 1.0); b1.tail = (0, 0, 2.0); b1.parent = b0; b1.use_connect = True
+b2 = eb.new("Hand"); b2.head = (0, 0, 2.0); b2.tail = (0, 0, 2.6); b2.parent = b1; b2.use_connect = True
+bpy.ops.object.mode_set(mode='OBJECT')
+
+around, rings = 48, 64
+z = np.linspace(0.02, 2.58, rings)
+radius = 0.22 + 0.05 * np.sin(z * math.pi / 1.3) ** 2 - 0.04 * np.exp(-((z - 1.0) / 0.12) ** 2)
+t = np.linspace(0, 2 * math.pi, around, endpoint=False)
+V = np.stack([np.outer(radius, np.cos(t)), np.outer(radius, np.sin(t)), np.repeat(z[:, None], around, 1)], -1).reshape(-1, 3)
+idx = np.arange(rings * around).reshape(rings, around)
+quads = np.stack([idx[:-1], np.roll(idx[:-1], -1, 1), np.roll(idx[1:], -1, 1), idx[1:]], -1).reshape(-1, 4)
+faces = [tuple(q) for q in quads.tolist()] + [tuple(idx[0][::-1].tolist()), tuple(idx[-1].tolist())]
+me = bpy.data.meshes.new("Arm")
+me.from_pydata(V.tolist(), [], faces)
+me.update()
+ob = bpy.data.objects.new("Arm", me)
+scene.collection.objects.link(ob)
+select_only(arm, ob)  # armature active, mesh selected
+bpy.context.view_layer.objects.active = arm
+R["parent"] = sorted(bpy.ops.object.parent_set(type='ARMATURE_AUTO'))
+R["groups"] = ob.vertex_groups.keys()
+
+def weights(o, names):
+    W = np.zeros((len(o.data.vertices), len(names)))
+    index = {o.vertex_groups[nm].index: c for c, nm in enumerate(names) if nm in o.vertex_groups}
+    for v in o.data.vertices:
+        for g in v.groups:
+            if g.group in index:
+                W[v.index, index[g.group]] = g.weight
+    return W
+
+bones = ["Upper", "Lower", "Hand"]
+select_only(ob)
+R["from_armature"] = sorted(bpy.ops.object.line_quadric_lod_from_armature())
+skin = weights(ob, bones)
+baked = weights(ob, ["LOD_Importance"])[:, 0]
+paper = np.minimum(0.15 * (1.0 - skin.max(axis=1)), 0.1)  # paper Sec. 5.3
+R["baked_error"] = float(np.abs(baked - paper / 0.1).max())
+R["baked_range"] = [float(baked.min()), float(baked.max())]
+R["baked_nonzero"] = int(np.count_nonzero(baked))
+# Vertices near the elbow (z = 1, shared by Upper and Lower) matter more than mid-bone ones.
+zc = V[:, 2]
+R["baked_elbow_vs_mid"] = [float(baked[np.abs(zc - 1.0) < 0.1].mean()), float(baked[np.abs(zc - 0.5) < 0.1].mean())]
+R["settings_after_bake"] = [scene.line_quadric_lod.importance_source, scene.line_quadric_lod.importance_group]
+
+def posed(o):
+    dg = bpy.context.evaluated_depsgraph_get()
+    dg.update()
+    e = o.evaluated_get(dg)
+    m = e.to_mesh()
+    m.calc_loop_triangles()
+    P = np.empty(len(m.vertices) * 3, np.float32); m.vertices.foreach_get("co", P)
+    F = np.empty(len(m.loop_triangles) * 3, np.int32); m.loop_triangles.foreach_get("vertices", F)
+    M = np.array(e.matrix_world)
+    P = P.reshape(-1, 3).astype(float) @ M[:3, :3].T + M[:3, 3]
+    e.to_mesh_clear()
+    return P, F.reshape(-1, 3)
+
+def pose(on):
+    for b in arm.pose.bones:
+        b.rotation_mode = 'XYZ'
+        b.rotation_euler = (0, 0, 0)
+    if on:
+        arm.pose.bones["Lower"].rotation_euler = (math.radians(80), 0, 0)
+        arm.pose.bones["Hand"].rotation_euler = (math.radians(-50), 0, math.radians(30))
+
+src_tris = len(posed(ob)[1])
+R["source_triangles"] = src_tris
+runs = {}
+for source in ('ARMATURE', 'VERTEX_GROUP', 'NONE'):
+    for ratio in (0.1, 0.03):
+        pose(False)
+        select_only(ob)
+        bpy.ops.object.line_quadric_lod(ratio=ratio, levels=1, importance_source=source,
+                                        importance_group="LOD_Importance", measure_deviation=False)
+        L = bpy.data.objects["Arm_LOD1"]
+        tris = len(L.data.polygons)
+        dup = bpy.data.objects.get("Arm_Decimate")
+        if dup is not None:
+            d = dup.data; bpy.data.objects.remove(dup); bpy.data.meshes.remove(d)
+        dup = ob.copy(); dup.data = ob.data.copy(); dup.name = "Arm_Decimate"
+        scene.collection.objects.link(dup)
+        dec = dup.modifiers.new("Decimate", 'DECIMATE')
+        dec.ratio = tris / src_tris
+        dup.modifiers.move(len(dup.modifiers) - 1, 0)  # decimate the rest shape, then skin
+        info = {"triangles": tris}
+        if source == 'ARMATURE' and ratio == 0.1:
+            lw = weights(L, bones)
+            info["modifiers"] = [(m.type, m.object.name if m.object else None) for m in L.modifiers]
+            info["parent"] = L.parent.name if L.parent else None
+            info["groups"] = L.vertex_groups.keys()
+            info["weight_range"] = [float(lw.min()), float(lw.max())]
+            info["weight_sum_range"] = [float(lw.sum(1).min()), float(lw.sum(1).max())]
+            info["source_sum_range"] = [float(skin.sum(1).min()), float(skin.sum(1).max())]
+            info["bones_used"] = int((lw.max(0) > 0.5).sum())
+        pose(True)
+        Ps, Fs = posed(ob)
+        Pl, Fl = posed(L)
+        Pd, Fd = posed(dup)
+        ours = measure.surface_deviation(Ps, Fs, Pl, Fl)
+        theirs = measure.surface_deviation(Ps, Fs, Pd, Fd)
+        info.update(decimate_triangles=len(Fd),
+                    ours=[ours["hausdorff_percent"], ours["mean_percent"]],
+                    decimate=[theirs["hausdorff_percent"], theirs["mean_percent"]],
+                    moved=float(np.abs(Ps - V).max()))
+        runs[f"{source}_{ratio}"] = info
+pose(False)
+R["runs"] = runs
+'''
+
+
+@pytest.fixture(scope="module")
+def res(blender_user_dir):
+    return run_in_blender(SNIPPET, user_dir=blender_user_dir, timeout=600)
+
+
+def test_character_is_skinned(res):
+    assert res["parent"] == ["FINISHED"]
+    assert res["groups"] == ["Upper", "Lower", "Hand"]
+
+
+def test_importance_from_armature_is_the_papers_formula(res):
+    assert res["from_armature"] == ["FINISHED"]
+    # Baked as w_i / 0.1 so the group reads 0..1 in Weight Paint mode.
+    assert res["baked_error"] < 1e-6
+    lo, hi = res["baked_range"]
+    assert 0.0 <= lo and hi <= 1.0 and hi > 0.5
+    elbow, mid = res["baked_elbow_vs_mid"]
+    assert elbow > 2 * mid
+    assert res["settings_after_bake"] == ["VERTEX_GROUP", "LOD_Importance"]
+
+
+def test_lods_deform_with_the_rig(res):
+    info = res["runs"]["ARMATURE_0.1"]
+    assert info["modifiers"] == [["ARMATURE", "Rig"]]
+    assert info["parent"] == "Rig"
+    assert info["groups"][:3] == ["Upper", "Lower", "Hand"] and "LOD_Importance" in info["groups"]
+    lo, hi = info["weight_range"]
+    assert lo >= 0.0 and hi <= 1.0
+    assert info["bones_used"] == 3
+    # Interpolated weights stay within the source's range of weight sums.
+    src_lo, src_hi = info["source_sum_range"]
+    lo, hi = info["weight_sum_range"]
+    assert lo >= src_lo - 1e-3 and hi <= src_hi + 1e-3
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.03])
+def test_posed_lod_beats_decimate(res, ratio):
+    for source in ("ARMATURE", "VERTEX_GROUP"):
+        info = res["runs"][f"{source}_{ratio}"]
+        assert info["moved"] > 0.5  # the pose really bends the arm
+        assert abs(info["triangles"] - round(ratio * res["source_triangles"])) <= 1
+        assert abs(info["decimate_triangles"] - info["triangles"]) <= 0.02 * info["triangles"]
+        ours_h, ours_mean = info["ours"]
+        dec_h, dec_mean = info["decimate"]
+        assert ours_h < 2.0 if ratio == 0.1 else ours_h < 3.0  # bounded, % of the bbox diagonal
+        # Closer where it matters (the worst spot, at the bent joints); on average at
+        # least as close (measured: within 1 % of Decimate's mean at 3 %, better at 10 %).
+        assert ours_h < dec_h
+        assert ours_mean < 1.05 * dec_mean
