@@ -17,12 +17,17 @@ Strong (paper Sec. 4.4.1, extreme weights). The painted vertices get the small a
 line quadric the paper recommends (0.01 at full paint), then their whole quadric is
 multiplied by
     1 + importance_i = 1000 ** (strength * g_i).
-The slider is exponential because what an artist sees is density: on a flat region a
-collapse costs about (edge length)^4 times the factor, so the kept vertex density grows
-like the square root of the factor. Strength 1 makes a fully painted vertex's error
-count 1000x (roughly 30x the vertex density of unpainted surroundings), strength 0.5
-makes it 32x (roughly 5.6x the density), strength 0 changes nothing: each step of the
-slider multiplies the density by the same amount.
+The slider is exponential because what an artist sees is density, which follows the
+factor's logarithm: strength 1 makes a fully painted vertex's error count 1000x, 0.5
+makes it 32x, 0 changes nothing, and each step of the slider multiplies the density by
+about the same amount.
+
+Measured (tests/test_addon_importance.py): a flat 120 x 120 grid with a painted disc,
+taken to 10 %; vertices per area in the disc over the rest:
+    Soft   strength 0: 0.95   0.1: 3.0   0.25: 4.5   0.5: 6.4   1: 8.5
+    Strong strength 0.1: 4.2  0.25: 6.9  0.5: 13    0.75: 29   1: 41
+with the target met every time and the disc itself simplified (at most 1,189 of its
+1,371 vertices kept), i.e. soft, not frozen.
 """
 from __future__ import annotations
 

@@ -28,7 +28,7 @@ IMPORTANCE_MODES = [
      "shape fidelity is never traded away. Strength 1 = the paper's recommended maximum weight 0.1"),
     ('STRONG', "Strong",
      "Scales the whole error of important vertices (paper Sec. 4.4.1) for strongly adaptive LODs, "
-     "even on flat regions. Strength 1 = their error counts 1000x (about 30x the vertex density)"),
+     "even on flat regions. Strength 1 = their error counts 1000x"),
 ]
 
 
@@ -66,7 +66,7 @@ def settings_properties() -> dict:
             name="Strength", default=d.importance_strength, min=0.0, max=1.0, subtype='FACTOR',
             description="How much importance counts. Soft: 1 gives fully important vertices the "
                         "paper's recommended maximum line weight 0.1. Strong: 1 multiplies their "
-                        "error by 1000, 0.5 by 32 (each step multiplies the kept density alike)"),
+                        "error by 1000, 0.5 by 32 (each step multiplies the kept density about alike)"),
         "importance_mode": EnumProperty(
             name="Mode", items=IMPORTANCE_MODES, default=d.importance_mode,
             description="How importance acts on the simplification"),
