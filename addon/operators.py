@@ -57,7 +57,7 @@ class OBJECT_OT_line_quadric_lod(bpy.types.Operator):
     bl_label = "Generate LODs"
     bl_options = {'REGISTER', 'UNDO'}
 
-    __annotations__ = settings_properties()
+    __annotations__ = settings_properties(operator=True)
 
     _job = None
     _timer = None

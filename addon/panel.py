@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bpy
 
+from .settings import LodSettings
 from .operators import (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_from_armature,
@@ -88,7 +89,11 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "use_modifiers")
         col.prop(settings, "measure_deviation")
-        layout.operator(OBJECT_OT_line_quadric_lod.bl_idname, icon='MOD_DECIM')
+        # The button carries the panel's settings (the operator remembers none itself), so
+        # Adjust Last Operation afterwards starts from exactly what the panel showed.
+        op = layout.operator(OBJECT_OT_line_quadric_lod.bl_idname, icon='MOD_DECIM')
+        for name in LodSettings.names():
+            setattr(op, name, getattr(settings, name))
 
         self.draw_report(layout, settings)
 

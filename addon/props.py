@@ -32,76 +32,82 @@ IMPORTANCE_MODES = [
 ]
 
 
-def settings_properties() -> dict:
-    """Fresh bpy property definitions for every LodSettings field (same names)."""
+def settings_properties(operator: bool = False) -> dict:
+    """Fresh bpy property definitions for every LodSettings field (same names).
+
+    operator=True marks them SKIP_SAVE: the operator must not remember its last values,
+    because started from the panel it takes the panel's settings for every property the
+    caller did not set (Blender would otherwise pre-set remembered values).
+    """
     d = LodSettings()
+    opts = {"options": {'SKIP_SAVE'}} if operator else {}
     props = {
         "ratio": FloatProperty(
             name="Ratio", default=d.ratio, min=0.0001, max=1.0, subtype='FACTOR',
             description="Triangles of the first LOD as a fraction of the source's "
-                        "(used when Triangles is 0)"),
+                        "(used when Triangles is 0)", **opts),
         "levels": IntProperty(
             name="Levels", default=d.levels, min=1, max=16,
-            description="Number of LODs to make (the source itself is LOD0)"),
+            description="Number of LODs to make (the source itself is LOD0)", **opts),
         "level_factor": FloatProperty(
             name="Factor", default=d.level_factor, min=0.01, max=0.99, subtype='FACTOR',
             description="Each LOD has this fraction of the previous LOD's triangles "
-                        "(3 levels at 0.5 from ratio 0.5: 50 %, 25 %, 12.5 %)"),
+                        "(3 levels at 0.5 from ratio 0.5: 50 %, 25 %, 12.5 %)", **opts),
         "target_triangles": IntProperty(
             name="Triangles", default=d.target_triangles, min=0,
-            description="Triangle count of the first LOD; 0 uses the Ratio instead"),
+            description="Triangle count of the first LOD; 0 uses the Ratio instead", **opts),
         "line_weight": FloatProperty(
             name="Uniformity", default=d.line_weight, min=0.0, soft_max=0.1, max=10.0,
             precision=4, step=0.01,
             description="Line-quadric weight w for every vertex: higher gives more uniform, "
                         "better shaped triangles, lower follows the shape more faithfully "
-                        "(paper default 0.001; above 0.1 the shape starts to suffer)"),
+                        "(paper default 0.001; above 0.1 the shape starts to suffer)", **opts),
         "importance_source": EnumProperty(
             name="Importance", items=IMPORTANCE_SOURCES, default=d.importance_source,
-            description="Where the per-vertex importance comes from"),
+            description="Where the per-vertex importance comes from", **opts),
         "importance_group": StringProperty(
             name="Group", default=d.importance_group,
-            description="Vertex group holding the importance (0 = normal, 1 = most important)"),
+            description="Vertex group holding the importance (0 = normal, 1 = most important)", **opts),
         "importance_strength": FloatProperty(
             name="Strength", default=d.importance_strength, min=0.0, max=1.0, subtype='FACTOR',
             description="How much importance counts. Soft: 1 gives fully important vertices the "
                         "paper's recommended maximum line weight 0.1. Strong: 1 multiplies their "
-                        "error by 1000, 0.5 by 32 (each step multiplies the kept density about alike)"),
+                        "error by 1000, 0.5 by 32 (each step multiplies the kept density about alike)", **opts),
         "importance_mode": EnumProperty(
             name="Mode", items=IMPORTANCE_MODES, default=d.importance_mode,
-            description="How importance acts on the simplification"),
+            description="How importance acts on the simplification", **opts),
         "preserve_boundaries": BoolProperty(
             name="Boundaries", default=d.preserve_boundaries,
-            description="Keep open boundaries (holes, borders) in place"),
+            description="Keep open boundaries (holes, borders) in place", **opts),
         "boundary_strength": FloatProperty(
             name="Strength", default=d.boundary_strength, min=0.0, soft_max=10.0, max=1000.0,
-            description="Weight of the planes that hold open boundaries (1 = as strong as the surface)"),
+            description="Weight of the planes that hold open boundaries (1 = as strong as the surface)", **opts),
         "preserve_seams": BoolProperty(
             name="UV Seams", default=d.preserve_seams,
-            description="Keep UV seams: seam vertices only slide along the seam, UVs never flip"),
+            description="Keep UV seams: seam vertices only slide along the seam, UVs never flip", **opts),
         "seam_strength": FloatProperty(
             name="Strength", default=d.seam_strength, min=0.0, soft_max=10.0, max=1000.0,
-            description="Extra weight holding seam edges in place (paper Sec. 4.4.2)"),
+            description="Extra weight holding seam edges in place (paper Sec. 4.4.2)", **opts),
         "preserve_sharp": BoolProperty(
             name="Sharp Edges", default=d.preserve_sharp,
-            description="Keep edges marked sharp (paper Sec. 4.4.2, dihedral-plane quadrics)"),
+            description="Keep edges marked sharp (paper Sec. 4.4.2, dihedral-plane quadrics)", **opts),
         "sharp_strength": FloatProperty(
             name="Strength", default=d.sharp_strength, min=0.0, soft_max=10.0, max=1000.0,
-            description="Weight holding sharp edges in place"),
+            description="Weight holding sharp edges in place", **opts),
         "preserve_materials": BoolProperty(
             name="Material Borders", default=d.preserve_materials,
-            description="Keep the borders between faces of different materials"),
+            description="Keep the borders between faces of different materials", **opts),
         "material_strength": FloatProperty(
             name="Strength", default=d.material_strength, min=0.0, soft_max=10.0, max=1000.0,
-            description="Weight holding material borders in place"),
+            description="Weight holding material borders in place", **opts),
         "use_modifiers": BoolProperty(
             name="Apply Modifiers", default=d.use_modifiers,
             description="Simplify the mesh as the modifiers make it (Armature modifiers excepted: "
-                        "each LOD gets its own); off: the base mesh"),
+                        "each LOD gets its own); off: the base mesh", **opts),
         "measure_deviation": BoolProperty(
             name="Measure Deviation", default=d.measure_deviation,
             description="Measure each LOD's distance to the source for the report "
-                        "(takes about a second per LOD on large meshes)"),
+                        "(takes about a second per LOD on large meshes)", **opts),
     }
     missing = set(LodSettings.names()) ^ set(props)
     if missing:  # a developer error: scripts rely on these names matching

@@ -46,7 +46,7 @@ def diff(a, b):
     return {k: [a.get(k), b.get(k)] for k in set(a) | set(b) if a.get(k) != b.get(k)}
 
 def select_only(*obs):
-    for o in bpy.context.view_layer.objects:
+    for o in bpy.context.selected_objects:
         o.select_set(False)
     for o in obs:
         o.select_set(True)
@@ -248,6 +248,15 @@ for o in (empty, wire, arm):
 R["errors_diff"] = diff(state, data_state())
 
 # --- 6. The panel draws for every state, referencing only real properties and operators
+class OperatorButton:
+    def __init__(self, rna, idname, log):
+        object.__setattr__(self, "_rna", rna); object.__setattr__(self, "_idname", idname)
+        object.__setattr__(self, "_log", log)
+    def __setattr__(self, name, value):
+        if name not in self._rna.properties:
+            raise AttributeError(f"{self._idname} has no property {name!r}")
+        self._log.append(("set", self._idname, name, value))
+
 class FakeLayout:
     def __init__(self, log):
         self.log = log
@@ -265,8 +274,9 @@ class FakeLayout:
         self.log.append(("prop_search", name))
     def operator(self, idname, **kw):
         mod, fn = idname.split(".")
-        getattr(getattr(bpy.ops, mod), fn).get_rna_type()  # raises KeyError if not registered
+        rna = getattr(getattr(bpy.ops, mod), fn).get_rna_type()  # raises KeyError if not registered
         self.log.append(("operator", idname))
+        return OperatorButton(rna, idname, self.log)
     def label(self, text="", **kw):
         self.log.append(("label", text))
     def separator(self, **kw):
@@ -274,11 +284,12 @@ class FakeLayout:
 
 panel_cls = panel_mod.VIEW3D_PT_line_quadric_lod
 settings = scene.line_quadric_lod
-draws = {}
+draws, draw_settings = {}, {}
 def draw(tag):
     log = []
     panel_cls.draw(types.SimpleNamespace(layout=FakeLayout(log), draw_report=panel_cls.draw_report), bpy.context)
     draws[tag] = log
+    draw_settings[tag] = {name: getattr(settings, name) for name in lod.LodSettings.names()}
 select_only()
 bpy.context.view_layer.objects.active = None
 draw("no_object")
@@ -291,6 +302,7 @@ settings.importance_source = 'VERTEX_GROUP'; settings.importance_group = "Missin
 draw("missing_group")
 settings.importance_source = 'NONE'
 R["draws"] = draws
+R["draw_settings"] = draw_settings
 R["panel_registered"] = hasattr(bpy.types, "VIEW3D_PT_line_quadric_lod")
 R["panel_category"] = panel_cls.bl_category
 
@@ -303,6 +315,42 @@ bpy.ops.object.mode_set(mode='OBJECT')
 r = bpy.ops.object.line_quadric_lod_paint()  # reuses the group
 R["paint_groups"] = [g.name for g in src.vertex_groups]
 bpy.ops.object.mode_set(mode='OBJECT')
+
+# --- 7b. Started from the panel or F3, invoke takes the panel's settings for every
+# property the caller did not set. (The bpy module never calls invoke, even for
+# 'INVOKE_DEFAULT', so it is called directly with a stand-in operator.)
+settings.levels = 2; settings.ratio = 0.2; settings.importance_strength = 0.3
+fake = types.SimpleNamespace(**{n: getattr(lod.LodSettings(), n) for n in lod.LodSettings.names()})
+fake.properties = types.SimpleNamespace(is_property_set=lambda name: name == "levels")
+fake.levels = 1
+fake.execute = lambda context: {"EXECUTED"}
+R["invoke_result"] = sorted(bpy.types.OBJECT_OT_line_quadric_lod.invoke(fake, bpy.context, None))
+R["invoke_settings"] = [fake.levels, fake.ratio, fake.importance_strength]
+settings.levels = 3; settings.ratio = 0.5; settings.importance_strength = 1.0
+
+# --- 7c. The modal operator's event handling, driven with stand-in events: Esc cancels a
+# running job and changes nothing; a timer tick after the job is done commits it.
+op_cls = bpy.types.OBJECT_OT_line_quadric_lod
+def fake_operator(job):
+    ns = types.SimpleNamespace(_job=job, _timer=None, messages=[])
+    ns.report = lambda kind, text: ns.messages.append((sorted(kind), text))
+    for name in ("_end_modal", "_commit", "_unexpected"):
+        setattr(ns, name, types.MethodType(getattr(op_cls, name), ns))
+    return ns
+def event(kind, value='NOTHING'):
+    return types.SimpleNamespace(type=kind, value=value)
+state = data_state(); srcst = source_state(src)
+ns = fake_operator(job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.1, levels=3)))
+ns._job.start()
+R["modal_running"] = sorted(op_cls.modal(ns, bpy.context, event('A', 'PRESS')))
+R["modal_navigation"] = sorted(op_cls.modal(ns, bpy.context, event('WHEELUPMOUSE', 'PRESS')))
+R["modal_esc"] = sorted(op_cls.modal(ns, bpy.context, event('ESC', 'PRESS')))
+R["modal_esc_messages"] = ns.messages
+R["modal_esc_unchanged"] = data_state() == state and source_state(src) == srcst
+ns = fake_operator(job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.1, levels=1)))
+ns._job.start(); ns._job.wait(120)
+R["modal_timer"] = sorted(op_cls.modal(ns, bpy.context, event('TIMER')))
+R["modal_timer_objects"] = sorted(o.name for o in bpy.data.objects if o.get("lod_source") == "Monkey")
 
 # --- 8. Undo: one step per run
 settings.importance_source = 'NONE'
@@ -444,6 +492,24 @@ def test_paint_importance(res):
     assert p["active_group"] == "LOD_Importance"
     assert p["source"] == "VERTEX_GROUP" and p["group"] == "LOD_Importance"
     assert res["paint_groups"].count("LOD_Importance") == 1
+
+
+def test_generate_button_uses_panel_settings(res):
+    for state in ("NONE", "VERTEX_GROUP", "ARMATURE"):
+        sets = {x[2]: x[3] for x in res["draws"][state] if x[0] == "set" and x[1] == "object.line_quadric_lod"}
+        assert sets == res["draw_settings"][state]
+    assert res["invoke_result"] == ["EXECUTED"]
+    assert res["invoke_settings"] == [1, pytest.approx(0.2), pytest.approx(0.3)]
+
+
+def test_modal_esc_cancels_and_timer_commits(res):
+    assert res["modal_running"] == ["RUNNING_MODAL"]  # editing is blocked while it runs
+    assert res["modal_navigation"] == ["PASS_THROUGH"]  # looking around is not
+    assert res["modal_esc"] == ["CANCELLED"]
+    assert res["modal_esc_messages"] == [[["WARNING"], "LOD generation cancelled: nothing was changed"]]
+    assert res["modal_esc_unchanged"]
+    assert res["modal_timer"] == ["FINISHED"]
+    assert res["modal_timer_objects"] == ["Monkey_LOD1"]
 
 
 def test_undo_is_one_step(res):
