@@ -211,9 +211,18 @@ def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
     faces = result.faces
     # Normals split where the source's did: between faces of different smoothing regions.
     sharp = edge_util.differing_edges(faces, smooth_group) if len(data.sharp_edges) else np.empty((0, 2), np.int64)
-    if len(data.seam_edges) and uv_maps:
-        seam = edge_util.unique_edges(np.concatenate(
-            [edge_util.corner_discontinuous_edges(faces, uv) for uv in uv_maps.values()]))
+    if len(data.seam_edges):
+        # Seams where the source had them: between triangles from regions the seams
+        # separated, and, for seams that cut into a region (a cylinder's), where the UVs
+        # are split between two vertices that came from seam vertices.
+        on_seam = np.zeros(len(data.vertices), dtype=bool)
+        on_seam[data.seam_edges.ravel()] = True
+        on_seam = on_seam[result.vertex_origin]
+        parts = [edge_util.differing_edges(faces, data.seam_region[fo])]
+        for uv in uv_maps.values():
+            split = edge_util.corner_discontinuous_edges(faces, uv)
+            parts.append(split[on_seam[split].all(axis=1)])
+        seam = edge_util.unique_edges(np.concatenate(parts))
     else:
         seam = np.empty((0, 2), np.int64)
     return mesh_io.MeshData(
@@ -235,6 +244,7 @@ def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
         shape_use_relative=data.shape_use_relative,
         sharp_edges=sharp,
         seam_edges=seam,
+        seam_region=data.seam_region[fo] if data.seam_region is not None else None,
     )
 
 

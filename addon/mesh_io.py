@@ -52,7 +52,9 @@ class MeshData:
     Per triangle: faces (m, 3), material_index, smooth, smooth_group (the input's
     smoothing region, so the LOD splits normals where the source did).
     Per triangle corner (m, 3, k): UV maps, corner colours.
-    Edges as (k, 2) vertex pairs: sharp_edges, seam_edges.
+    Edges as (k, 2) vertex pairs: sharp_edges, seam_edges; seam_region labels the
+    triangles by the regions the seams cut the surface into (so the LOD's seams can be
+    marked where the source's were).
     """
 
     vertices: np.ndarray
@@ -73,6 +75,7 @@ class MeshData:
     shape_use_relative: bool = True
     sharp_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
     seam_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
+    seam_region: Optional[np.ndarray] = None  # (m,) per triangle: the region between seams
 
     @property
     def has_shape_keys(self) -> bool:
@@ -131,6 +134,9 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
         sharp = np.zeros(n_edges, dtype=bool)
     seam = _get(mesh.edges, "use_seam", n_edges, bool)
 
+    seam_edges = edge_verts[seam]
+    seam_region = edge_util.face_regions(tris, seam_edges) if len(seam_edges) else None
+
     names = vertex_groups.group_names(mesh)
     weights = vertex_groups.read_weights(mesh, names, method=group_method) if names else np.zeros((n, 0))
 
@@ -149,7 +155,8 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
         group_names=names,
         group_weights=weights,
         sharp_edges=edge_verts[sharp],
-        seam_edges=edge_verts[seam],
+        seam_edges=seam_edges,
+        seam_region=seam_region,
     )
 
 

@@ -71,6 +71,8 @@ attr = src.data.attributes.new("sharp_edge", 'BOOLEAN', 'EDGE')
 attr.data.foreach_set("value", sharp)
 col = src.data.color_attributes.new("Tint", 'BYTE_COLOR', 'CORNER')
 col.data.foreach_set("color", np.tile([1.0, 0.5, 0.25, 1.0], len(src.data.loops)).astype(np.float32))
+heat = src.data.color_attributes.new("Heat", 'FLOAT_COLOR', 'POINT')
+heat.data.foreach_set("color", np.c_[np.clip(co[:, 2], 0, 1), np.zeros((len(co), 2)), np.ones(len(co))].astype(np.float32).ravel())
 group = src.vertex_groups.new(name="Top")
 group.add(np.flatnonzero(co[:, 2] > 0.3).tolist(), 0.75, 'REPLACE')
 src.shape_key_add(name="Basis")
@@ -82,6 +84,9 @@ src["game_id"] = 42
 src.location = (1.0, 2.0, 3.0)
 src.rotation_euler = (0.1, 0.2, 0.3)
 R["sharp_input"] = int(sharp.sum())
+seam = (np.abs(co[edges_v[:, 0], 0]) < 1e-5) & (np.abs(co[edges_v[:, 1], 0]) < 1e-5)  # the mid line
+src.data.edges.foreach_set("use_seam", seam)
+R["seams_input"] = int(seam.sum())
 
 before_source = source_state(src)
 before_data = data_state()
@@ -125,6 +130,10 @@ for k in (1, 2, 3):
         "matrix_same": bool(np.allclose(np.array(o.matrix_world), np.array(src.matrix_world))),
         "smooth": bool(arr(me.polygons, "use_smooth", 1, bool).all()),
         "sharp_edges": int(arr(sharp_attr.data, "value", 1, bool).sum()) if sharp_attr else 0,
+        "seam_edges": int(arr(me.edges, "use_seam", 1, bool).sum()),
+        "seam_x": float(np.abs(arr(me.vertices, "co", 3).reshape(-1, 3)[arr(me.edges, "vertices", 2, np.int32).reshape(-1, 2)[arr(me.edges, "use_seam", 1, bool)], 0]).max()) if arr(me.edges, "use_seam", 1, bool).any() else None,
+        "heat_range": [float(x) for x in (lambda h: (h[:, 0].min(), h[:, 0].max(), np.abs(h[:, 1:3]).max()))(
+            arr(me.color_attributes["Heat"].data, "color", 4).reshape(-1, 4))] if "Heat" in me.color_attributes else None,
         "in_collection": [c.name for c in o.users_collection],
         "modifiers": [m.type for m in o.modifiers],
     })
@@ -406,6 +415,9 @@ def test_materials_uvs_colours_groups_shape_keys_carried(res):
         assert info["uv_maps"] == ["UVMap"]
         assert 0.0 <= info["uv_range"][0] < info["uv_range"][1] <= 1.0
         assert ["Tint", "CORNER", "BYTE_COLOR"] in info["colors"]
+        assert ["Heat", "POINT", "FLOAT_COLOR"] in info["colors"]
+        lo, hi, other = info["heat_range"]
+        assert 0.0 <= lo < 0.1 and 0.9 < hi <= 1.0 and other == 0.0  # interpolated, in range
         assert info["color_mean"] == pytest.approx([1.0, 0.5, 0.25, 1.0], abs=0.02)
         assert info["groups"] == ["Top"]
         assert max(info["top_weights"]) == pytest.approx(0.75, abs=1e-3)
@@ -414,6 +426,12 @@ def test_materials_uvs_colours_groups_shape_keys_carried(res):
         assert info["smile_offset"] == pytest.approx(0.1, abs=1e-3)
         assert info["smooth"]
         assert info["sharp_edges"] > 0  # the ear's sharp rim still splits normals
+        assert info["seam_edges"] > 0  # seams are marked where the source had them
+        assert info["seam_x"] < 0.05  # on the mid line (held softly: within 2 % of the width)
+
+
+def test_input_had_features(res):
+    assert res["sharp_input"] > 0 and res["seams_input"] > 0
 
 
 def test_source_unchanged(res):

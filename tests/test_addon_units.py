@@ -104,3 +104,26 @@ def test_targets_chain_and_errors():
 def test_validate_rejects_bad_values(field, value, message):
     with pytest.raises(LodError, match=message):
         LodSettings(**{field: value}).validate()
+
+
+def test_face_regions_split_by_closed_cuts_only():
+    v, f = grid(6)
+    cx = v[f].mean(axis=1)[:, 0]
+    vertical = np.array([[i * 7 + 3, (i + 1) * 7 + 3] for i in range(6)])  # the line x = 0.5
+    labels = edges.face_regions(f, vertical)
+    assert len(np.unique(labels)) == 2
+    assert len(np.unique(labels[cx < 0.5])) == 1 and len(np.unique(labels[cx > 0.5])) == 1
+    assert len(np.unique(edges.face_regions(f, vertical[:3]))) == 1  # a cut into the region
+    assert len(np.unique(edges.face_regions(f, np.empty((0, 2))))) == 1
+
+
+def test_face_regions_label_long_strips_quickly():
+    # A 2 x 4000 strip: the diameter is 8000 triangles; hook-and-compress needs few rounds.
+    x, y = np.meshgrid(np.arange(4001), np.arange(2))
+    v = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
+    idx = np.arange(x.size).reshape(2, 4001)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    f = np.r_[np.c_[a, b, c], np.c_[a, c, d]]
+    cut = np.array([[idx[0, 2000], idx[1, 2000]]])
+    labels = edges.face_regions(f, cut)
+    assert len(np.unique(labels)) == 2
