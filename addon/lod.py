@@ -406,10 +406,11 @@ def commit(context_or_scene, outputs: list) -> list:
         raise
 
     reports = []
-    new = {lod.as_pointer() for _, _, objects in built for lod in objects}
+    keep = {ob.as_pointer() for _, _, objects in built for ob in objects}
+    keep |= {source.as_pointer() for source, _, _ in built}  # never remove an object being written for
     for source, out, objects in built:
         for old in previous_lods(source.name):
-            if old.as_pointer() not in new:
+            if old.as_pointer() not in keep:
                 _remove_object_and_mesh(old)
         coll = _lod_collection(scene, source)
         for k, lod in enumerate(objects, start=1):

@@ -30,7 +30,9 @@ def scene_settings(context):
 
 
 def selected_meshes(context) -> list:
-    return [ob for ob in context.selected_objects if ob.type == 'MESH']
+    """Selected mesh objects, except LODs made by an earlier run (they would be replaced
+    while being read; a source selected together with its LODs is the usual case)."""
+    return [ob for ob in context.selected_objects if ob.type == 'MESH' and lod.LEVEL_PROP not in ob]
 
 
 def _generate_blocker(context):
@@ -38,6 +40,8 @@ def _generate_blocker(context):
     if context.mode != 'OBJECT':
         return "Switch to Object Mode to generate LODs"
     if not selected_meshes(context):
+        if any(ob.type == 'MESH' for ob in context.selected_objects):
+            return "Only LOD objects are selected: select their source mesh"
         return "Select one or more mesh objects"
     return None
 

@@ -148,6 +148,12 @@ R["rerun_meshes"] = sorted(m.name for m in bpy.data.meshes if m.name.startswith(
 R["rerun_triangles"] = [len(bpy.data.objects[f"Monkey_LOD{k}"].data.polygons) for k in (1, 2)]
 R["rerun_report_targets"] = [lv["target"] for lv in json.loads(scene.line_quadric_lod.last_report)[0]["levels"]]
 
+# --- 2b. Source and its LODs selected together: the LODs are skipped, then replaced
+select_only(src, *[o for o in bpy.data.objects if o.get("lod_source") == "Monkey"])
+r = bpy.ops.object.line_quadric_lod(ratio=0.3, levels=2, level_factor=0.5, measure_deviation=False)
+R["with_lods_selected"] = [sorted(r), [rep["object"] for rep in json.loads(scene.line_quadric_lod.last_report)],
+                           sorted(o.name for o in bpy.data.objects if o.get("lod_source") == "Monkey")]
+
 # --- 3. Cancel: through the progress callback, and through a threaded job
 state = data_state(); srcst = source_state(src)
 calls = []
@@ -211,6 +217,8 @@ state = data_state()
 errors = {}
 select_only()
 errors["no_mesh_selected"] = op_error()
+select_only(bpy.data.objects["Monkey_LOD1"])
+errors["only_lods_selected"] = op_error()
 empty = bpy.data.objects.new("Empty Mesh", bpy.data.meshes.new("empty"))
 scene.collection.objects.link(empty)
 select_only(empty)
@@ -445,6 +453,10 @@ def test_rerun_replaces_previous_lods(res):
     assert all(abs(t - g) <= 1 for t, g in zip(res["rerun_triangles"], res["rerun_report_targets"]))
 
 
+def test_source_selected_with_its_lods(res):
+    assert res["with_lods_selected"] == [["FINISHED"], ["Monkey"], ["Monkey_LOD1", "Monkey_LOD2"]]
+
+
 def test_cancel_leaves_the_scene_as_it_was(res):
     assert res["cancel_raised"] and res["cancel_calls"] == 2
     assert res["cancel_unchanged"]
@@ -462,6 +474,7 @@ def test_vertex_group_routes_agree(res):
 
 EXPECTED_ERRORS = {
     "no_mesh_selected": "Select one or more mesh objects",
+    "only_lods_selected": "Only LOD objects are selected: select their source mesh",
     "empty_mesh": '"Empty Mesh" has an empty mesh',
     "no_faces": '"Wire" has no faces',
     "missing_group": '"Monkey" has no vertex group "Nope"',
