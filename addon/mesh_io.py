@@ -344,8 +344,13 @@ def add_shape_keys(obj: bpy.types.Object, data: MeshData) -> None:
         block.interpolation = sk.interpolation
         block.vertex_group = sk.vertex_group
         block.mute = sk.mute
-        block.slider_min = sk.slider_min
-        block.slider_max = sk.slider_max
+        # Blender keeps slider_min < slider_max at every assignment: set them in an order
+        # that never crosses the current range.
+        if sk.slider_min < block.slider_max:
+            block.slider_min, block.slider_max = sk.slider_min, sk.slider_max
+        else:
+            block.slider_max = sk.slider_max
+            block.slider_min = sk.slider_min
         block.value = sk.value
         blocks[sk.name] = block
     for sk in data.shape_keys:

@@ -79,7 +79,9 @@ src.shape_key_add(name="Basis")
 smile = src.shape_key_add(name="Smile")
 kco = co.copy(); kco[:, 2] += 0.1
 smile.data.foreach_set("co", kco.ravel())
-smile.value = 0.4
+smile.slider_max = 3.0
+smile.slider_min = 1.5
+smile.value = 1.7
 src["game_id"] = 42
 src.location = (1.0, 2.0, 3.0)
 src.rotation_euler = (0.1, 0.2, 0.3)
@@ -123,7 +125,7 @@ for k in (1, 2, 3):
         "groups": o.vertex_groups.keys(),
         "top_weights": sorted(set(np.round(w, 3).tolist())) if w is not None else None,
         "shape_keys": sk.keys() if sk else [],
-        "smile_value": sk["Smile"].value if sk and "Smile" in sk else None,
+        "smile_value": [sk["Smile"].value, sk["Smile"].slider_min, sk["Smile"].slider_max] if sk and "Smile" in sk else None,
         "smile_offset": float(np.median(arr(sk["Smile"].data, "co", 3).reshape(-1, 3)[:, 2] - arr(me.vertices, "co", 3).reshape(-1, 3)[:, 2])) if sk else None,
         "game_id": o.get("game_id"),
         "lod_level": o.get("lod_level"),
@@ -430,7 +432,7 @@ def test_materials_uvs_colours_groups_shape_keys_carried(res):
         assert info["groups"] == ["Top"]
         assert max(info["top_weights"]) == pytest.approx(0.75, abs=1e-3)
         assert info["shape_keys"] == ["Basis", "Smile"]
-        assert info["smile_value"] == pytest.approx(0.4)
+        assert info["smile_value"] == pytest.approx([1.7, 1.5, 3.0])
         assert info["smile_offset"] == pytest.approx(0.1, abs=1e-3)
         assert info["smooth"]
         assert info["sharp_edges"] > 0  # the ear's sharp rim still splits normals
