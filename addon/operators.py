@@ -204,12 +204,9 @@ def _use_importance_group(context, ob, group):
         panel.importance_group = group.name
 
 
-class OBJECT_OT_line_quadric_lod_paint(bpy.types.Operator):
-    """Paint where detail matters: creates (or reuses) the vertex group "LOD_Importance" and enters Weight Paint mode on it"""
-
-    bl_idname = "object.line_quadric_lod_paint"
-    bl_label = "Paint Importance"
-    bl_options = {'REGISTER', 'UNDO'}
+class _ImportanceOperator:
+    """Shared checks of the two importance helpers: an active mesh object in Object or
+    Weight Paint mode; poll() explains what is missing, execute() reports it."""
 
     @classmethod
     def poll(cls, context):
@@ -219,10 +216,22 @@ class OBJECT_OT_line_quadric_lod_paint(bpy.types.Operator):
             return False
         return True
 
-    def execute(self, context):
+    def report_blocker(self, context) -> bool:
         blocker = _importance_blocker(context)
         if blocker:
             self.report({'ERROR'}, blocker)
+        return bool(blocker)
+
+
+class OBJECT_OT_line_quadric_lod_paint(_ImportanceOperator, bpy.types.Operator):
+    """Paint where detail matters: creates (or reuses) the vertex group "LOD_Importance" and enters Weight Paint mode on it"""
+
+    bl_idname = "object.line_quadric_lod_paint"
+    bl_label = "Paint Importance"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    def execute(self, context):
+        if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
         group = ob.vertex_groups.get(IMPORTANCE_GROUP) or ob.vertex_groups.new(name=IMPORTANCE_GROUP)
@@ -237,25 +246,15 @@ class OBJECT_OT_line_quadric_lod_paint(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class OBJECT_OT_line_quadric_lod_from_armature(bpy.types.Operator):
+class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Operator):
     """Bake importance from the skin weights into the vertex group "LOD_Importance" (paper Sec. 5.3: vertices near joints matter), so it can be seen and repainted"""
 
     bl_idname = "object.line_quadric_lod_from_armature"
     bl_label = "Importance from Armature"
     bl_options = {'REGISTER', 'UNDO'}
 
-    @classmethod
-    def poll(cls, context):
-        blocker = _importance_blocker(context)
-        if blocker:
-            cls.poll_message_set(blocker)
-            return False
-        return True
-
     def execute(self, context):
-        blocker = _importance_blocker(context)
-        if blocker:
-            self.report({'ERROR'}, blocker)
+        if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
         try:
