@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._core import core
+
 
 def edge_keys(pairs: np.ndarray, n_vertices: int) -> np.ndarray:
     """One int64 per undirected edge: min * n + max (same key for (a, b) and (b, a))."""
@@ -116,35 +118,19 @@ def face_regions(faces: np.ndarray, cut_edges: np.ndarray) -> np.ndarray:
     """Connected regions of triangles that meet across edges not in ``cut_edges``.
 
     Returns (m,) int64 labels (the smallest triangle index of each region). Used for
-    seam islands: regions bounded by the artist's seams. Hook-and-compress: each round
-    every region root hooks onto the smallest root across an uncut edge, then labels
-    jump to their roots; rounds grow like log(m) on meshes, not like their diameter.
+    seam islands: regions bounded by the artist's seams.
     """
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     m = len(f)
-    label = np.arange(m, dtype=np.int64)
     if m == 0:
-        return label
+        return np.arange(0, dtype=np.int64)
     edges, fa, fb = adjacent_triangle_pairs(f)
     n = int(f.max()) + 1
     cut = np.asarray(cut_edges, dtype=np.int64).reshape(-1, 2)
     if len(cut):
         keep = ~np.isin(edge_keys(edges, n), edge_keys(cut, n))
         fa, fb = fa[keep], fb[keep]
-    while True:
-        la, lb = label[fa], label[fb]
-        low = np.minimum(la, lb)
-        new = label.copy()
-        np.minimum.at(new, la, low)
-        np.minimum.at(new, lb, low)
-        while True:
-            jumped = new[new]
-            if np.array_equal(jumped, new):
-                break
-            new = jumped
-        if np.array_equal(new, label):
-            return label
-        label = new
+    return core.topology.connected_labels(m, fa, fb)
 
 
 def mark_edges(mesh_edges: np.ndarray, wanted: np.ndarray, n_vertices: int) -> np.ndarray:

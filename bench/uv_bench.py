@@ -22,6 +22,7 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import numpy as np
 
 from blender_reference import decimate, load_mesh
+from core.topology import connected_labels
 
 UV_TOL = 1e-5  # UV values closer than this are the same (Blender stores UVs as float32)
 REF_STRETCH_LIMIT = 100.0  # see uv_metrics: input faces this distorted are no local reference
@@ -61,23 +62,6 @@ def edge_table(faces, uv):
     return {"edges": edges, "seam": seam, "pair": pair, "interior": interior,
             "boundary": int(np.count_nonzero(count == 1)),
             "nonmanifold": int(np.count_nonzero(count > 2))}
-
-
-def components(n_nodes: int, a, b) -> np.ndarray:
-    """Connected-component label (smallest member) of each node of the graph a[i]-b[i]:
-    min-label propagation with pointer jumping, all in bulk."""
-    label = np.arange(n_nodes)
-    while True:
-        old = label.copy()
-        np.minimum.at(label, a, label[b])
-        np.minimum.at(label, b, label[a])
-        while True:
-            jumped = label[label]
-            if np.array_equal(jumped, label):
-                break
-            label = jumped
-        if np.array_equal(label, old):
-            return label
 
 
 def signed_uv_area(uv) -> np.ndarray:
@@ -131,7 +115,7 @@ def uv_metrics(vertices, faces, uv, src: Source, face_origin=None) -> dict:
     a3 = area_3d(v, f)
     # UV islands: faces joined across interior edges whose UVs agree.
     joined = et["interior"] & ~et["seam"]
-    island = components(len(f), et["pair"][joined, 0], et["pair"][joined, 1])
+    island = connected_labels(len(f), et["pair"][joined, 0], et["pair"][joined, 1])
     _, island_idx = np.unique(island, return_inverse=True)
     orientation = np.sign(np.bincount(island_idx, weights=s))  # area-weighted majority
     eps_uv = 1e-12 * max(float(np.abs(s).max(initial=0.0)), 1e-30)

@@ -21,6 +21,7 @@ from .result import (
 from .simplify import simplify, simplify_chain
 from .metrics import triangle_quality, quality_summary
 from .weights import importance_from_skin_weights
+from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
 
 __all__ = [
     "simplify",
@@ -34,4 +35,5 @@ __all__ = [
     "triangle_quality",
     "quality_summary",
     "importance_from_skin_weights",
+    "topology",
 ]

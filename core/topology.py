@@ -134,3 +134,31 @@ def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: i
     per_corner = owner_of[faces.ravel()]
     corners = np.flatnonzero(per_corner >= 0)
     return per_corner[corners], corners
+
+
+def connected_labels(n_nodes: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Connected components of the graph with edges a[i]-b[i] over nodes 0..n_nodes-1.
+
+    Returns (n_nodes,) int64: the smallest node of each node's component. Hook and
+    compress: each round every root hooks onto the smallest root across an edge, then
+    labels jump to their roots, so rounds grow like log(n) on meshes rather than like
+    their diameter; all in bulk.
+    """
+    a = np.asarray(a, dtype=np.int64)
+    b = np.asarray(b, dtype=np.int64)
+    label = np.arange(n_nodes, dtype=np.int64)
+    while len(a):
+        la, lb = label[a], label[b]
+        low = np.minimum(la, lb)
+        new = label.copy()
+        np.minimum.at(new, la, low)
+        np.minimum.at(new, lb, low)
+        while True:
+            jumped = new[new]
+            if np.array_equal(jumped, new):
+                break
+            new = jumped
+        if np.array_equal(new, label):
+            break
+        label = new
+    return label

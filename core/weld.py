@@ -6,6 +6,8 @@ import itertools
 
 import numpy as np
 
+from .topology import connected_labels
+
 _NEIGHBOUR_OFFSETS = np.array(list(itertools.product((-1, 0, 1), repeat=3)), dtype=np.int64)
 
 
@@ -27,7 +29,7 @@ def weld_map(vertices: np.ndarray, distance) -> np.ndarray:
 def _weld_within(vertices: np.ndarray, distance: float) -> np.ndarray:
     """Grid cells of size ``distance``: vertices in one cell weld; neighbouring cells
     (the 26 around) weld where their first vertices are within ``distance``, so pairs
-    straddling a cell border are not missed. Cells are joined by label propagation."""
+    straddling a cell border are not missed. Joined cells form one weld group."""
     cells = np.floor(vertices / distance).astype(np.int64)
     cells -= cells.min(axis=0) - 1  # leave room for the -1 offsets
     extent = cells.max(axis=0) + 2
@@ -50,13 +52,5 @@ def _weld_within(vertices: np.ndarray, distance: float) -> np.ndarray:
         pairs.append(np.stack([hit[close], at[hit][close]], axis=1))
     pairs = np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
 
-    label = np.arange(len(cell_keys))
-    while len(pairs):
-        low = np.minimum(label[pairs[:, 0]], label[pairs[:, 1]])
-        before = label.copy()
-        np.minimum.at(label, pairs[:, 0], low)
-        np.minimum.at(label, pairs[:, 1], low)
-        label = label[label]  # pointer jumping
-        if np.array_equal(label, before):
-            break
+    label = connected_labels(len(cell_keys), pairs[:, 0], pairs[:, 1])
     return first[label[cell_of]]
