@@ -22,7 +22,6 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import numpy as np
 
 from blender_reference import decimate, load_mesh
-from core.topology import connected_labels
 
 UV_TOL = 1e-5  # UV values closer than this are the same (Blender stores UVs as float32)
 REF_STRETCH_LIMIT = 100.0  # see uv_metrics: input faces this distorted are no local reference
@@ -115,6 +114,8 @@ def uv_metrics(vertices, faces, uv, src: Source, face_origin=None) -> dict:
     a3 = area_3d(v, f)
     # UV islands: faces joined across interior edges whose UVs agree.
     joined = et["interior"] & ~et["seam"]
+    from core.topology import connected_labels  # here, after main() checked that core imports
+
     island = connected_labels(len(f), et["pair"][joined, 0], et["pair"][joined, 1])
     _, island_idx = np.unique(island, return_inverse=True)
     orientation = np.sign(np.bincount(island_idx, weights=s))  # area-weighted majority

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import selection, topology, validation, vertex_quadrics
+from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
 from .result import (
     STOP_MAX_ERROR,
@@ -29,7 +30,6 @@ from .result import (
 from .wedges import Wedges
 from .geometry import edge_parameter, face_frames
 
-FREE, SEAM, LOCKED = 0, 1, 2
 # Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
 SELECTION_ROUNDS = 3
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential

@@ -7,7 +7,7 @@ and would break the manifold checks.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -42,7 +42,6 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
-    timings: dict = field(default_factory=dict)
 
 
 def validate_and_prepare(vertices, faces, targets, options) -> Problem:

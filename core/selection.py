@@ -8,6 +8,7 @@ import numpy as np
 
 from . import quadrics, topology
 
+# Vertex kinds: free, slides only along its seam, never moves.
 FREE, SEAM, LOCKED = 0, 1, 2
 _NO_RANK = np.iinfo(np.int64).max
 

@@ -17,8 +17,8 @@ class Connectivity:
 
     edges: (k, 2) int64 with edges[:, 0] < edges[:, 1]; edge_faces: (k,) number of faces
     on each edge (1 boundary, 2 interior, more non-manifold); face_edges: (m, 3) the edge
-    of each face side (side s joins corners s and s+1); edge_face0 / edge_face1 and
-    their opposite corners' vertices (-1 where missing); half_edge_order: the half-edges
+    of each face side (side s joins corners s and s+1); edge_face0 / edge_face1 the faces
+    on each edge (-1 where missing); half_edge_order: the half-edges
     sorted by edge key, which the next pass reuses as a nearly sorted starting order.
     """
 
@@ -28,8 +28,6 @@ class Connectivity:
     face_edges: np.ndarray
     edge_face0: np.ndarray
     edge_face1: np.ndarray
-    edge_opposite0: np.ndarray
-    edge_opposite1: np.ndarray
     edge_he0: np.ndarray  # a half-edge (flat corner index f*3+s) of each edge
     edge_he1: np.ndarray  # the other half-edge of an interior edge, else -1
     half_edge_order: np.ndarray
@@ -66,13 +64,8 @@ def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
     second_he = np.full(len(group_start), -1, dtype=np.int64)
     second_he[has_second] = order[group_start[has_second] + 1]
 
-    flat_faces = faces.ravel()
-    opp0 = flat_faces[(first_he // 3) * 3 + (first_he % 3 + 2) % 3]
-    opp1 = np.full(len(group_start), -1, dtype=np.int64)
-    s = second_he[has_second]
-    opp1[has_second] = flat_faces[(s // 3) * 3 + (s % 3 + 2) % 3]
     face1 = np.full(len(group_start), -1, dtype=np.int64)
-    face1[has_second] = s // 3
+    face1[has_second] = second_he[has_second] // 3
 
     return Connectivity(
         edges=edges,
@@ -81,8 +74,6 @@ def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
         face_edges=he_edge.reshape(m, 3),
         edge_face0=first_he // 3,
         edge_face1=face1,
-        edge_opposite0=opp0,
-        edge_opposite1=opp1,
         edge_he0=first_he,
         edge_he1=second_he,
         half_edge_order=order,
@@ -113,11 +104,6 @@ def any_corner(flags: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def min_corner(values: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(m,) smallest per-vertex value over each face's corners."""
     return np.minimum(np.minimum(values[faces[:, 0]], values[faces[:, 1]]), values[faces[:, 2]])
-
-
-def vertex_degrees(conn: Connectivity, n_vertices: int) -> np.ndarray:
-    """Number of distinct edges at each vertex."""
-    return np.bincount(conn.edges.ravel(), minlength=n_vertices)
 
 
 def next_corner(corner: np.ndarray) -> np.ndarray:
