@@ -25,13 +25,13 @@ import time
 import fig_common as fc
 import bpy  # noqa: F401  (before pymeshlab: pymeshlab's embree breaks a later bpy import)
 import matplotlib.pyplot as plt
-import numpy as np
 from matplotlib.ticker import FormatStrFormatter
 
 import core
 from addon.measure import mesh_report
 from blender_reference import decimate
 from fig_weight_sweep import RATIO, load_input
+from peers import meshlab_or_none, meshlab_simplify
 
 OUR_WEIGHTS = (0.0, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1)
 MESHLAB_WEIGHTS = (1e-5, 1e-4, 3e-4, 1e-3, 1e-2)
@@ -41,41 +41,6 @@ PROBABILISTIC_NOTE = (
     "s^2 a_i |x - v_i|^2 per vertex, i.e. our line quadric plus a tangent-plane term "
     "s^2 a_i (n_i.(x - v_i))^2; core's public API has no per-vertex plane input, and a uniform "
     "`importance` only rescales every quadric, so the series cannot be emulated without changing core")
-
-
-def meshlab_or_none():
-    try:
-        import pymeshlab
-    except Exception as ex:  # optional peer: ImportError, or its native libraries failing to load
-        fc.log(f"pymeshlab not importable ({type(ex).__name__}: {ex})")
-        return None
-    return pymeshlab
-
-
-def meshlab_simplify(pymeshlab, V, F, target, planar_weight):
-    """MeshLab's quadric edge collapse to ``target`` faces; planar_weight None = no planar quadric.
-
-    The mesh is handed over scaled to a unit bounding-box diagonal (and the result scaled
-    back): MeshLab's planar weight is not scale-invariant (measured on the bunny at weight
-    1e-3: mean q 0.868 at its own size, 0.799 scaled 40x), while core's w is. Every
-    parameter is passed explicitly: pymeshlab was seen to reuse a previous call's
-    planarquadric when it was left out.
-    """
-    lo = V.min(axis=0)
-    scale = float(np.linalg.norm(V.max(axis=0) - lo))
-    ms = pymeshlab.MeshSet()
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=(V - lo) / scale, face_matrix=F.astype(np.int32)))
-    t0 = time.perf_counter()
-    ms.meshing_decimation_quadric_edge_collapse(
-        targetfacenum=int(target), qualitythr=0.3, preserveboundary=False, boundaryweight=1.0,
-        preservenormal=False, preservetopology=False, optimalplacement=True,
-        planarquadric=planar_weight is not None,
-        planarweight=float(planar_weight) if planar_weight is not None else 0.001,
-        qualityweight=False, autoclean=True, selected=False)
-    seconds = time.perf_counter() - t0
-    m = ms.current_mesh()
-    return (np.asarray(m.vertex_matrix(), dtype=np.float64) * scale + lo,
-            np.asarray(m.face_matrix(), dtype=np.int64), seconds)
 
 
 def main() -> None:
