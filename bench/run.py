@@ -1,15 +1,19 @@
-"""THE benchmark: core.simplify against Blender's Decimate, speed and quality.
+"""THE benchmark: core.simplify against Blender's Decimate and optional peers, speed and quality.
 
     .venv/bin/python bench/run.py [--meshes DIR] [--ratios 0.25 0.1] [--repeat N]
                                   [--big] [--json FILE] [--write-docs] [--skip-core]
+                                  [--peers KEY ... | --no-peers]
 
 For every mesh in DIR (default ../shared/meshes next to the checkout) and every ratio,
-in this one process: core.simplify (default settings, line_weight 1e-3) and Blender's
-Decimate modifier (Collapse) on the same triangle arrays, then the same measurements of
-both outputs against the input (addon/measure.py). Prints a markdown table on stdout
-(progress goes to stderr) and the issue-3 acceptance lines at ratio 0.1. --big adds the
-~2M-face mesh made by subdividing ogre twice, with the peak memory of a core run in a
-child process. See bench/README.md for every column.
+in this one process: core.simplify (default settings, line_weight 1e-3), Blender's
+Decimate modifier (Collapse) and every installed optional peer (bench/peers.py: MeshLab
+with and without its planar quadric, meshoptimizer, fast-simplification; a peer that is
+not installed is skipped with a note) on the same triangle arrays, then the same
+measurements of every output against the input (addon/measure.py). Prints a markdown
+table on stdout (progress goes to stderr) and the issue-3 acceptance lines (core vs
+Blender) at ratio 0.1. --big adds the ~2M-face mesh made by subdividing ogre twice, with
+the peak memory of a core run in a child process. --write-docs also draws the plots into
+docs/images/. See bench/README.md for every column.
 """
 from __future__ import annotations
 
@@ -22,12 +26,14 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 import numpy as np
 
+import peers
 from addon.measure import DEFAULT_SAMPLES, mesh_report
 from blender_reference import decimate, load_mesh
 from meshgen import subdivide_midpoint
@@ -43,6 +49,13 @@ BIG_MEMORY_LIMIT_MB = 2.5 * 1024
 DISTANCE_FACTOR = 1.1
 QUALITY_MARGIN = 0.03
 SLIVER_LIMIT = 1.0
+PLOT_TIME = "bench_time_ratio.png"
+PLOT_QUALITY = "bench_hausdorff_quality.png"
+PLOT_CAPTIONS = {
+    PLOT_TIME: "Each method's time over Blender's Decimate, per mesh and ratio (log scale; below 1 = faster).",
+    PLOT_QUALITY: "Hausdorff distance against mean triangle quality, one point per mesh and method "
+                  "(lower and further right is better).",
+}
 
 
 def log(msg: str) -> None:
@@ -60,7 +73,7 @@ def run_blender(vertices, faces, ratio, repeat):
 
 
 def run_core(vertices, faces, ratio, line_weight, repeat):
-    """core.simplify best of ``repeat`` wall-clock runs; returns (result, seconds)."""
+    """core.simplify best of ``repeat`` wall-clock runs: (vertices, faces, seconds, extra columns)."""
     import core
 
     best, result = float("inf"), None
@@ -68,7 +81,20 @@ def run_core(vertices, faces, ratio, line_weight, repeat):
         t0 = time.perf_counter()
         result = core.simplify(vertices, faces, ratio=ratio, line_weight=line_weight)
         best = min(best, time.perf_counter() - t0)
-    return result, best
+    return (result.vertices, result.faces, best,
+            {"stop_reason": result.stats.stop_reason, "passes": result.stats.passes})
+
+
+def run_peer(peer, module, vertices, faces, ratio, repeat):
+    """A peer best of ``repeat`` runs to core's face count for ``ratio`` (output compacted):
+    (vertices, faces, seconds of its simplify call, extra columns)."""
+    target = max(int(round(ratio * len(faces))), 1)
+    best = None
+    for _ in range(max(1, repeat)):
+        res = peers.run(peer, module, vertices, faces, target)
+        if best is None or res.seconds < best.seconds:
+            best = res
+    return best.vertices, best.faces, best.seconds, {"peer": True}
 
 
 def measured_row(mesh_name, input_faces, ratio, method, src_v, src_f, out_v, out_f, seconds,
@@ -86,6 +112,7 @@ def measured_row(mesh_name, input_faces, ratio, method, src_v, src_f, out_v, out
 
 
 def bench_mesh(name, vertices, faces, ratios, args) -> list:
+    """Rows per ratio: Blender Decimate, core (unless --skip-core), then every available peer."""
     rows = []
     for ratio in ratios:
         log(f"  {name} @ {ratio:g}: Blender Decimate (best of {args.repeat}) ...")
@@ -93,21 +120,30 @@ def bench_mesh(name, vertices, faces, ratios, args) -> list:
         blender = measured_row(name, len(faces), ratio, "Blender Decimate", vertices, faces,
                                dec.vertices, dec.faces, dec.seconds, args.samples)
         rows.append(blender)
-        if args.skip_core:
-            continue
-        log(f"  {name} @ {ratio:g}: core.simplify (best of {args.repeat}) ...")
-        try:
-            res, seconds = run_core(vertices, faces, ratio, args.line_weight, args.repeat)
-        except Exception as ex:  # one failing mesh must not cost the rest of the table
-            log(f"  core.simplify failed on {name} @ {ratio:g}: {type(ex).__name__}: {ex}")
-            rows.append({"mesh": name, "input_faces": int(len(faces)), "ratio": ratio,
-                         "method": "core", "error": f"{type(ex).__name__}: {ex}"})
-            continue
-        rows.append(measured_row(
-            name, len(faces), ratio, "core", vertices, faces, res.vertices, res.faces, seconds,
-            args.samples, {"time_ratio": seconds / dec.seconds if dec.seconds > 0 else float("nan"),
-                           "stop_reason": res.stats.stop_reason, "passes": res.stats.passes}))
+        if not args.skip_core:
+            log(f"  {name} @ {ratio:g}: core.simplify (best of {args.repeat}) ...")
+            rows.append(_timed_row(name, vertices, faces, ratio, "core", dec.seconds, args,
+                                   partial(run_core, vertices, faces, ratio, args.line_weight, args.repeat)))
+        for peer, module in args.peer_modules:
+            log(f"  {name} @ {ratio:g}: {peer.method} (best of {args.repeat}) ...")
+            rows.append(_timed_row(name, vertices, faces, ratio, peer.method, dec.seconds, args,
+                                   partial(run_peer, peer, module, vertices, faces, ratio, args.repeat)))
     return rows
+
+
+def _timed_row(name, vertices, faces, ratio, method, blender_seconds, args, run) -> dict:
+    """The measured row of one method; ``run()`` -> (vertices, faces, seconds, extra columns)."""
+    try:
+        out_v, out_f, seconds, extra = run()
+        if len(out_f) == 0:
+            raise ValueError("returned no faces")
+    except Exception as ex:  # one failing method or mesh must not cost the rest of the table
+        log(f"  {method} failed on {name} @ {ratio:g}: {type(ex).__name__}: {ex}")
+        return {"mesh": name, "input_faces": int(len(faces)), "ratio": ratio,
+                "method": method, "error": f"{type(ex).__name__}: {ex}"}
+    extra["time_ratio"] = seconds / blender_seconds if blender_seconds > 0 else float("nan")
+    return measured_row(name, len(faces), ratio, method, vertices, faces, out_v, out_f, seconds,
+                        args.samples, extra)
 
 
 def core_peak_memory(vertices, faces, ratio, line_weight) -> dict:
@@ -165,6 +201,75 @@ def markdown_table(rows) -> str:
             f"| {_fmt(r['mean_quality'], '.3f')} | {_fmt(r['min_quality'], '.3f')} "
             f"| {_fmt(r['sliver_percent'], '.2f')} |")
     return "\n".join(lines)
+
+
+def plot_results(rows, directory: Path) -> list:
+    """PNGs in ``directory``: time / Blender's per mesh and method (bars, one panel per ratio),
+    and Hausdorff against mean q (colour = method, marker = mesh, one panel per ratio).
+
+    Returns the paths written ([] and a log line when matplotlib is missing)."""
+    try:
+        import matplotlib
+    except ImportError:
+        log("plots skipped: matplotlib is not installed (it is in requirements-dev.txt)")
+        return []
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import FormatStrFormatter
+
+    ok = [r for r in rows if "error" not in r]
+    methods = list(dict.fromkeys(r["method"] for r in ok))
+    meshes = list(dict.fromkeys(r["mesh"] for r in ok))
+    ratios = sorted({r["ratio"] for r in ok}, reverse=True)
+    color = {m: f"C{i}" for i, m in enumerate(methods)}
+    marker = {m: "osD^v<>pP*hX"[i % 12] for i, m in enumerate(meshes)}
+    timed = [m for m in methods if m != "Blender Decimate"]
+    directory.mkdir(parents=True, exist_ok=True)
+    paths = []
+
+    def finish(fig, name, handles):
+        fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 4), fontsize=8)
+        paths.append(directory / name)
+        fig.savefig(paths[-1], dpi=110)
+        plt.close(fig)
+        log(f"wrote {paths[-1]}")
+
+    def log_axis(ax):
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+        ax.grid(alpha=0.3, which="both")
+
+    if timed:
+        fig, axes = plt.subplots(len(ratios), 1, squeeze=False, layout="constrained",
+                                 figsize=(max(6.0, 0.45 * len(meshes) * len(timed)), 1.2 + 2.8 * len(ratios)))
+        width = 0.8 / len(timed)
+        for ax, ratio in zip(axes[:, 0], ratios):
+            for j, m in enumerate(timed):
+                val = {r["mesh"]: r.get("time_ratio", np.nan) for r in ok if r["method"] == m and r["ratio"] == ratio}
+                ax.bar(np.arange(len(meshes)) + (j - (len(timed) - 1) / 2) * width,
+                       [val.get(mesh, np.nan) for mesh in meshes], width, color=color[m])
+            ax.axhline(1.0, color="black", lw=0.8)
+            log_axis(ax)
+            ax.set_xticks(np.arange(len(meshes)), meshes, fontsize=8)
+            ax.set_ylabel("time / Blender Decimate's")
+            ax.set_title(f"ratio {ratio:g}: below 1 = faster than Blender's Decimate", fontsize=9)
+        finish(fig, PLOT_TIME, [plt.Rectangle((0, 0), 1, 1, color=color[m], label=m) for m in timed])
+
+    fig, axes = plt.subplots(1, len(ratios), figsize=(1 + 5 * len(ratios), 4.8), squeeze=False, layout="constrained")
+    for ax, ratio in zip(axes[0], ratios):
+        for r in ok:
+            if r["ratio"] == ratio:
+                ax.scatter(r["mean_quality"], r["hausdorff_percent"], color=color[r["method"]],
+                           marker=marker[r["mesh"]], s=30, alpha=0.85)
+        log_axis(ax)
+        ax.set_xlabel("mean triangle quality q (higher is better)")
+        ax.set_ylabel("Hausdorff, % of bounding-box diagonal (lower is better)")
+        ax.set_title(f"ratio {ratio:g}", fontsize=9)
+    finish(fig, PLOT_QUALITY,
+           [Line2D([], [], ls="", marker="o", color=color[m], label=m) for m in methods]
+           + [Line2D([], [], ls="", marker=marker[m], color="gray", label=m) for m in meshes])
+    return paths
 
 
 def criteria(rows, memory=None, big_name=None) -> list:
@@ -244,9 +349,13 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="+", metavar="NAME", help="only meshes whose file stem is listed")
     ap.add_argument("--big", action="store_true", help="also the ~2M-face subdivided ogre at 10%%")
     ap.add_argument("--big-only", action="store_true", help="only the ~2M-face mesh")
-    ap.add_argument("--skip-core", action="store_true", help="Blender only (dry run)")
+    ap.add_argument("--skip-core", action="store_true", help="no core rows (a dry run of the rest)")
+    ap.add_argument("--peers", nargs="+", choices=peers.PEER_KEYS, metavar="KEY",
+                    help=f"only these optional peers ({', '.join(peers.PEER_KEYS)}; default: every installed one)")
+    ap.add_argument("--no-peers", action="store_true", help="core and Blender only")
     ap.add_argument("--json", type=Path, help="also write every row and the environment as JSON")
-    ap.add_argument("--write-docs", action="store_true", help="write the table to docs/benchmarks.md")
+    ap.add_argument("--write-docs", action="store_true",
+                    help="write the table to docs/benchmarks.md and the plots to docs/images/")
     args = ap.parse_args(argv)
     # Taken before the run: the working tree (the engine) may change while a long run goes.
     env = environment()
@@ -261,6 +370,11 @@ def main(argv=None) -> int:
     if not args.meshes.is_dir():
         log(f"error: no mesh directory {args.meshes} (give one with --meshes)")
         return 2
+    # Imported only now, after bpy (see peers.py: pymeshlab's embree breaks a later bpy import).
+    args.peer_modules, peer_notes = ([], []) if args.no_peers else peers.available(args.peers)
+    for note in peer_notes:
+        log(note)
+    env["peers"] = {p.method: peers.version_of(p) for p, _ in args.peer_modules}
 
     rows, skipped, memory, big_name = [], [], None, None
     if not args.big_only:
@@ -287,6 +401,8 @@ def main(argv=None) -> int:
     checks = criteria(rows, memory, big_name)
     check_lines = [f"{'PASS' if ok else 'FAIL'} {text}" for ok, text in checks]
     notes = [f"skipped {name}: {why}" for name, why in skipped]
+    notes += peer_notes
+    notes += [f"{p.method} {env['peers'][p.method]}: {p.options}" for p, _ in args.peer_modules]
     # Times are wall clock on a shared machine: say how busy it was.
     notes.append(f"load average (1/5/15 min) at start {load_start}, at end {env['load_average']} "
                  f"on {env['cpu_count']} cores")
@@ -301,22 +417,28 @@ def main(argv=None) -> int:
         print(line)
     if args.json:
         args.json.write_text(json.dumps({"environment": env, "rows": rows, "criteria": checks,
-                                         "skipped": skipped, "memory": memory}, indent=2))
+                                         "skipped": skipped, "memory": memory, "peer_notes": peer_notes},
+                                        indent=2))
     if args.write_docs:
         cmd = "bench/run.py " + " ".join(argv if argv is not None else sys.argv[1:])
+        plots = plot_results(rows, _bootstrap.REPO_ROOT / "docs" / "images")
         doc = [
             "# Benchmarks", "",
             f"Generated by `.venv/bin/python {cmd.strip()}` on {env['date']} "
             f"(commit {env['commit']}; Blender {env['blender']} as the bpy module, NumPy {env['numpy']}, "
             f"Python {env['python']}; {env['cpu']}, {env['cpu_count']} cores; "
             f"load average {env['load_average_start'][0]} at start).", "",
-            "core.simplify (line_weight 1e-3) and Blender's Decimate modifier (Collapse) run in the same "
-            "process on the same triangles. Distances are two-sided, in % of the input's bounding-box "
+            "core.simplify (line_weight 1e-3), Blender's Decimate modifier (Collapse) and the optional "
+            "peers that are installed (MeshLab's quadric edge collapse with and without its planar quadric, "
+            "meshoptimizer, fast-simplification; options in the notes below) run in the same "
+            "process on the same triangles; × Blender is each method's time over Decimate's. "
+            "Distances are two-sided, in % of the input's bounding-box "
             "diagonal; q is triangle quality (1 = equilateral). Columns are explained in "
-            "[bench/README.md](../bench/README.md).", "",
+            "[bench/README.md](../bench/README.md). The acceptance lines compare core with Blender only.", "",
             table, "",
             *(f"- {line}" for line in check_lines + notes),
             "",
+            *(f"{PLOT_CAPTIONS[p.name]}\n\n![{p.stem}](images/{p.name})\n" for p in plots),
         ]
         out = _bootstrap.REPO_ROOT / "docs" / "benchmarks.md"
         out.parent.mkdir(exist_ok=True)
