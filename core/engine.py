@@ -125,7 +125,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     if len(cand.edge) == 0:
         return STOP_NO_COLLAPSE
     if max_error_sq is not None:
-        within = cand.cost <= max_error_sq * (s.area[cand.keep] + s.area[cand.remove])
+        within = cand.cost <= max_error_sq
         if not within.any():
             return STOP_MAX_ERROR
         cand = cand.subset(within)
@@ -139,8 +139,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         upto = int(np.searchsorted(np.cumsum(conn.edge_faces[cand.edge[chosen]]), need, side="left")) + 1
         chosen = chosen[:upto]
     if len(chosen):
-        err = cand.cost[chosen] / np.maximum(s.area[cand.keep[chosen]] + s.area[cand.remove[chosen]], 1e-300)
-        s.max_error_seen = max(s.max_error_seen, float(np.sqrt(err.max())))
+        s.max_error_seen = max(s.max_error_seen, float(np.sqrt(cand.cost[chosen].max())))
         _apply(s, conn, cand, chosen, pass_no)
     return None
 

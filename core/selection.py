@@ -16,7 +16,10 @@ _NO_RANK = np.iinfo(np.int64).max
 @dataclass
 class Candidates:
     """Collapsible edges: ``edge`` indexes conn.edges; ``remove`` merges into ``keep``,
-    which moves to ``position`` at quadric error ``cost``."""
+    which moves to ``position``. ``cost`` is the quadric error there divided by the area
+    the two quadrics stand for: a mean squared distance, comparable between dense and
+    coarse regions (the raw area-weighted error would let small, densely tessellated
+    features go first, which is what worst-case distance punishes)."""
 
     edge: np.ndarray
     keep: np.ndarray
@@ -85,7 +88,8 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     along_seam = (k_keep == SEAM) & (k_remove == SEAM)
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
-    return position, quadrics.evaluate(q, position)
+    area = np.maximum(s.area[keep] + s.area[remove], 1e-300)
+    return position, quadrics.evaluate(q, position) / area
 
 
 def _still_rejected(s, conn, a, b) -> np.ndarray:

@@ -18,6 +18,7 @@ MIN_NORMAL_COSINE = 0.2
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
 SLIVER_GUARD = 0.3  # triangle quality below which a face counts as a sliver
 SLIVER_SLACK = 0.5
+FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
 def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
@@ -49,6 +50,13 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
     bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    # Nor may a face end up facing against a nearly flat surface around the collapse (a
+    # fold-over that each single turn allowed). Only where the rings' normals agree: at
+    # tips and sharp ridges their sum means little.
+    ring = np.stack([np.bincount(collapse, weights=n_old[:, j], minlength=c) for j in range(3)], axis=1)
+    spread = np.bincount(collapse, weights=len_old, minlength=c)
+    flat = np.sqrt(np.einsum("ij,ij->i", ring, ring)) >= FLAT_RING_AGREEMENT * spread
+    bad |= ~dying & flat[collapse] & (np.einsum("ij,ij->i", n_new, ring[collapse]) < 0)
     # Small turns add up over passes: no face may end up facing away from the input face
     # it descends from.
     source = s.source_normals[s.face_origin[faces]]
