@@ -32,20 +32,26 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     from_keep = owner < c
     collapse = np.where(from_keep, owner, owner - c)
     faces = corners // 3
-    fv = s.F[faces]
-    k = keep[collapse][:, None]
-    r = remove[collapse][:, None]
-    is_k = fv == k
-    is_r = fv == r
-    dying = (is_k[:, 0] | is_k[:, 1] | is_k[:, 2]) & (is_r[:, 0] | is_r[:, 1] | is_r[:, 2])
+    slot = corners % 3
+    F = s.F
+    # Each gathered corner is the moving end itself; its face's other two corners stay put
+    # (or one of them is the other end, and the face dies with the edge).
+    nb_next = F.ravel()[faces * 3 + (slot + 1) % 3]
+    nb_prev = F.ravel()[faces * 3 + (slot + 2) % 3]
+    other_end = np.where(from_keep, remove[collapse], keep[collapse])
+    dying = (nb_next == other_end) | (nb_prev == other_end)
 
-    ok = _link_condition(conn, cand.edge[chosen], fv, corners % 3, from_keep, collapse, keep, remove, c, n)
+    ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, other_end, from_keep, collapse, c, n)
 
-    # Normals before and after moving the ends to the new position.
-    p_old = s.V[fv]
-    p_new = np.where((is_k | is_r)[:, :, None], pos[collapse][:, None, :], p_old)
-    n_old = np.cross(p_old[:, 1] - p_old[:, 0], p_old[:, 2] - p_old[:, 0])
-    n_new = np.cross(p_new[:, 1] - p_new[:, 0], p_new[:, 2] - p_new[:, 0])
+    # Normals before and after moving the end to the new position: (b - a) x (c - a) in
+    # the face's own cyclic order, with a the moving corner.
+    p_a = s.V[F.ravel()[corners]]
+    p_b = s.V[nb_next]
+    p_c = s.V[nb_prev]
+    x = pos[collapse]
+    ab_old, ac_old, ab_new, ac_new = p_b - p_a, p_c - p_a, p_b - x, p_c - x
+    n_old = np.cross(ab_old, ac_old)
+    n_new = np.cross(ab_new, ac_new)
     len_old = np.sqrt(np.einsum("ij,ij->i", n_old, n_old))
     len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
@@ -64,8 +70,9 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     # Never turn a face into a sliver: the output's worst triangles stay up. A face that
     # already is one may get somewhat worse (not below half its quality), or the
     # slivers of the input would freeze their whole neighbourhood.
-    q_new = _quality(p_new, len_new)
-    q_old = _quality(p_old, len_old)
+    bc = np.einsum("ij,ij->i", p_c - p_b, p_c - p_b)
+    q_new = _quality(len_new, ab_new, ac_new, bc)
+    q_old = _quality(len_old, ab_old, ac_old, bc)
     bad |= ~dying & (q_new < SLIVER_GUARD) & ((q_old >= SLIVER_GUARD) | (q_new < SLIVER_SLACK * q_old))
     ok &= np.bincount(collapse[bad], minlength=c) == 0
 
@@ -74,12 +81,10 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     return ok
 
 
-def _link_condition(conn, edges, fv, slot, from_keep, collapse, keep, remove, c, n) -> np.ndarray:
-    rows = np.arange(len(fv))
-    nb = np.stack([fv[rows, (slot + 1) % 3], fv[rows, (slot + 2) % 3]], axis=1)
+def _link_condition(conn, edges, nb_next, nb_prev, other_end, from_keep, collapse, c, n) -> np.ndarray:
+    nb = np.stack([nb_next, nb_prev], axis=1)
     key = collapse[:, None] * np.int64(n) + nb
-    other_end = np.where(from_keep, remove[collapse], keep[collapse])[:, None]
-    useful = nb != other_end
+    useful = nb != other_end[:, None]
     keys_keep = np.unique(key[from_keep[:, None] & useful])
     keys_remove = np.unique(key[~from_keep[:, None] & useful])
     common = np.intersect1d(keys_keep, keys_remove, assume_unique=True)
@@ -92,8 +97,8 @@ def _link_condition(conn, edges, fv, slot, from_keep, collapse, keep, remove, c,
     return ok
 
 
-def _quality(p, double_area):
-    """Triangle quality 4 sqrt(3) area / sum of squared edges, for (k, 3, 3) corners."""
-    e = np.concatenate([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
-    sq = np.einsum("ij,ij->i", e, e)
+def _quality(double_area, ab, ac, bc_squared):
+    """Triangle quality 4 sqrt(3) area / sum of squared edges, from two edge vectors at a
+    corner and the squared length of the third edge."""
+    sq = np.einsum("ij,ij->i", ab, ab) + np.einsum("ij,ij->i", ac, ac) + bc_squared
     return 2.0 * np.sqrt(3.0) * double_area / np.maximum(sq, 1e-300)
