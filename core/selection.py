@@ -80,7 +80,10 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
 
 def _optimal(s, keep, remove, k_keep, k_remove):
     """Position and quadric error of collapsing each remove into its keep."""
-    q = s.Q[keep] + s.Q[remove]
+    # Column-major: the solve reads each of the 10 coefficients as one contiguous column,
+    # several times faster than striding across rows.
+    q = np.empty((len(keep), s.Q.shape[1]), order="F")
+    np.add(s.Q[keep], s.Q[remove], out=q)
     v_keep, v_remove = s.V[keep], s.V[remove]
     position = quadrics.minimize(q, 0.5 * (v_keep + v_remove), s.area_scale)
     fixed = (k_keep == LOCKED) | ((k_keep == SEAM) & (k_remove == FREE))

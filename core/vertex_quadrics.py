@@ -39,20 +39,14 @@ def build(
     """
     n = len(vertices)
     normals, areas = face_frames(vertices, faces)
-    corners = faces.ravel()
-    corner_weight = np.repeat(areas / 3.0, 3)
 
     # Eq. 7-8: area-weighted triangle planes, a third of each face per corner.
     plane = quadrics.plane_quadrics(normals, vertices[faces[:, 0]], areas / 3.0)
-    q = quadrics.accumulate(corners, np.repeat(plane, 3, axis=0), n)
-    vertex_area = np.bincount(corners, weights=corner_weight, minlength=n)
+    q = quadrics.accumulate(faces, plane, n)
+    vertex_area = quadrics.scatter_sum(faces, areas / 3.0, n)
 
     # Eq. 12 and 16: line along the area-weighted vertex normal, weighted by w_i a_i.
-    weighted_normals = np.repeat(normals * areas[:, None], 3, axis=0)
-    vertex_normal = np.stack(
-        [np.bincount(corners, weights=weighted_normals[:, j], minlength=n) for j in range(3)], axis=1
-    )
-    vertex_normal, has_normal = _unit_rows(vertex_normal)
+    vertex_normal, has_normal = _unit_rows(quadrics.scatter_sum(faces, normals * areas[:, None], n))
     w = np.asarray(line_weights, dtype=np.float64)
     if importance is not None:
         w = np.where(importance > 0, np.maximum(w, IMPORTANCE_LINE_WEIGHT_FLOOR), w)
@@ -79,7 +73,7 @@ def _boundary_quadrics(vertices, face_normals, conn, weight, n):
     plane_normal, ok = _unit_rows(np.cross(direction, face_normals[conn.edge_face0[border]]))
     w = weight * np.einsum("ij,ij->i", direction, direction) * ok
     plane = quadrics.plane_quadrics(plane_normal, vertices[e[:, 0]], w)
-    return quadrics.accumulate(e.ravel(), np.repeat(plane, 2, axis=0), n)
+    return quadrics.accumulate(e, plane, n)
 
 
 def _feature_quadrics(vertices, face_normals, face_areas, conn, feature_edges, edge_weights, n):
@@ -105,4 +99,4 @@ def _feature_quadrics(vertices, face_normals, face_areas, conn, feature_edges, e
     plane_normal, ok = _unit_rows(np.cross(direction, edge_normal))
     edge_area = (area0 + area1) / 3.0
     plane = quadrics.plane_quadrics(plane_normal, vertices[fe[:, 0]], w_in * edge_area / 2.0 * ok)
-    return quadrics.accumulate(fe.ravel(), np.repeat(plane, 2, axis=0), n)
+    return quadrics.accumulate(fe, plane, n)
