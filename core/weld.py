@@ -21,9 +21,34 @@ def weld_map(vertices: np.ndarray, distance) -> np.ndarray:
     if n == 0 or (distance is not None and distance < 0):
         return np.arange(n)
     if not distance:
+        return _weld_exact(vertices)
+    return _weld_within(vertices, float(distance))
+
+
+def _weld_exact(vertices: np.ndarray) -> np.ndarray:
+    """Exactly coincident positions weld to their first occurrence.
+
+    Sorting one 64-bit hash of each row's bits is several times faster than np.unique
+    over rows (which compares rows field by field). Equal rows hash equally and, the sort
+    being stable, come out as a run led by their first occurrence; a run that holds
+    different rows (a hash collision) sends the whole call to np.unique instead.
+    """
+    bits = np.ascontiguousarray(vertices + 0.0).view(np.uint64)  # + 0.0: -0.0 == 0.0
+    h = bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)
+    h = (h ^ (h >> np.uint64(29)) ^ bits[:, 1]) * np.uint64(0xBF58476D1CE4E5B9)
+    h = (h ^ (h >> np.uint64(32)) ^ bits[:, 2]) * np.uint64(0x94D049BB133111EB)
+    order = np.argsort(h, kind="stable")
+    hs, vs = h[order], vertices[order]
+    same_hash = hs[1:] == hs[:-1]
+    same_row = same_hash & np.all(vs[1:] == vs[:-1], axis=1)
+    if np.any(same_hash & ~same_row):
         _, first, inverse = np.unique(vertices, axis=0, return_index=True, return_inverse=True)
         return first[inverse.reshape(-1)]
-    return _weld_within(vertices, float(distance))
+    run_start = np.concatenate([[True], ~same_row])
+    leader = order[np.flatnonzero(run_start)][np.cumsum(run_start) - 1]
+    out = np.empty(len(vertices), dtype=np.int64)
+    out[order] = leader
+    return out
 
 
 def _weld_within(vertices: np.ndarray, distance: float) -> np.ndarray:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import core
 import meshgen as mg
@@ -272,3 +274,17 @@ def test_rough_height_field_gets_no_face_turned_upside_down(seed):
             n = mg.face_normals(r.vertices, r.faces)
             z = n[:, 2] / np.linalg.norm(n, axis=1)
             assert np.all(z > 0), f"ratio {ratio}, w {w}: {np.count_nonzero(z <= 0)} faces face down (min z {z.min():.3f})"
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 400), st.sampled_from([1, 2, 4]))
+def test_exact_weld_matches_rowwise_unique(seed, n, levels):
+    """The hashed exact weld maps every vertex to the first occurrence of its position,
+    as np.unique over rows does, with many repeats, signed zeros among them."""
+    from core.weld import weld_map
+
+    rng = np.random.default_rng(seed)
+    V = rng.integers(-levels, levels + 1, size=(n, 3)).astype(np.float64) * 0.5
+    V[rng.random((n, 3)) < 0.3] *= -1.0  # turns some 0.0 into -0.0
+    _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
+    np.testing.assert_array_equal(weld_map(V, None), first[inverse.reshape(-1)])
