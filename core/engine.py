@@ -163,7 +163,7 @@ def _choose(s: State, conn, cand, n, seed, pass_no) -> np.ndarray:
     # pass, so costly regions wait for later passes as they would in a sequential queue.
     eligible = cand.cost <= np.quantile(cand.cost, COST_QUANTILE) if COST_QUANTILE < 1 else np.ones(len(cand.edge), dtype=bool)
     for _ in range(SELECTION_ROUNDS):
-        chosen = selection.independent_set(cand, conn, s.F, n, seed, eligible)
+        chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
             break
         ok = validation.valid_collapses(s, conn, cand, chosen)

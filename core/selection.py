@@ -106,7 +106,7 @@ def _still_rejected(s, conn, a, b) -> np.ndarray:
     return found & (last_change < s.rejected_pass[pos])
 
 
-def independent_set(cand: Candidates, conn, F, n, seed, eligible=None) -> np.ndarray:
+def independent_set(cand: Candidates, conn, n, seed, eligible=None) -> np.ndarray:
     """Indices into ``cand`` of edges cheapest among all eligible candidate edges
     touching the faces around both their ends.
 
@@ -116,17 +116,19 @@ def independent_set(cand: Candidates, conn, F, n, seed, eligible=None) -> np.nda
     cheapest-first order. ``eligible`` (len(cand),) bool restricts the choice.
     """
     idx = np.arange(len(cand.edge)) if eligible is None else np.flatnonzero(eligible)
-    edges = cand.edge[idx]
-    rank = np.full(len(conn.edges), _NO_RANK, dtype=np.int64)
-    rank[edges] = order_keys(cand.cost[idx], edges, seed)
-    side_rank = rank[conn.face_edges]
-    # Corner s of a face starts side s and ends side s-1: both are edges at its vertex.
-    corner_min = np.minimum(side_rank, side_rank[:, [2, 0, 1]]).ravel()
-    cheapest_at_vertex = topology.min_per_vertex(F, corner_min, n, _NO_RANK)
-    cheapest_near_face = topology.min_corner(cheapest_at_vertex, F)
-    cheapest_in_ring = topology.min_per_vertex(F, np.repeat(cheapest_near_face, 3), n, _NO_RANK)
-    mine = rank[edges]
-    return idx[(mine == cheapest_in_ring[cand.keep[idx]]) & (mine == cheapest_in_ring[cand.remove[idx]])]
+    rank = order_keys(cand.cost[idx], cand.edge[idx], seed)
+    keep, remove = cand.keep[idx], cand.remove[idx]
+    # The vertices sharing a face with v are exactly its edge neighbours, so "cheapest
+    # among the edges around the faces of v" is a minimum over v's edges, then over its
+    # neighbours: two scatter-minimums over edges, none over face corners.
+    cheapest_at_vertex = np.full(n, _NO_RANK, dtype=np.int64)
+    np.minimum.at(cheapest_at_vertex, keep, rank)
+    np.minimum.at(cheapest_at_vertex, remove, rank)
+    a, b = conn.edges[:, 0], conn.edges[:, 1]
+    cheapest_in_ring = cheapest_at_vertex.copy()
+    np.minimum.at(cheapest_in_ring, a, cheapest_at_vertex[b])
+    np.minimum.at(cheapest_in_ring, b, cheapest_at_vertex[a])
+    return idx[(rank == cheapest_in_ring[keep]) & (rank == cheapest_in_ring[remove])]
 
 
 def order_keys(cost: np.ndarray, edges: np.ndarray, seed: int) -> np.ndarray:
