@@ -82,17 +82,25 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
 
 
 def _link_condition(conn, edges, nb_next, nb_prev, other_end, from_keep, collapse, c, n) -> np.ndarray:
+    """Link condition and tetrahedron test from the ring neighbours of both ends.
+
+    Every (collapse, neighbour, side) becomes one integer; one sort of them all gives the
+    distinct neighbours of each end (degrees) and, where the same neighbour follows on the
+    other side, the neighbours the two ends share."""
     nb = np.stack([nb_next, nb_prev], axis=1)
-    key = collapse[:, None] * np.int64(n) + nb
     useful = nb != other_end[:, None]
-    keys_keep = np.unique(key[from_keep[:, None] & useful])
-    keys_remove = np.unique(key[~from_keep[:, None] & useful])
-    common = np.intersect1d(keys_keep, keys_remove, assume_unique=True)
-    shared = np.bincount(common // n, minlength=c)
+    side = np.broadcast_to((~from_keep)[:, None], nb.shape)
+    code = np.sort((collapse[:, None] * np.int64(n) + nb)[useful] * 2 + side[useful])
+    distinct = code[np.concatenate([[True], code[1:] != code[:-1]])] if len(code) else code
+    owner = distinct // (2 * n)
+    from_remove = (distinct & 1).astype(bool)
+    shared_here = np.zeros(len(distinct), dtype=bool)
+    shared_here[:-1] = (distinct[1:] == distinct[:-1] + 1) & ~from_remove[:-1]
+    shared = np.bincount(owner[shared_here], minlength=c)
     ok = shared == conn.edge_faces[edges]
     # Both ends of degree three around an inner edge: a closed tetrahedron would fold flat.
-    degree_keep = np.bincount(keys_keep // n, minlength=c) + 1
-    degree_remove = np.bincount(keys_remove // n, minlength=c) + 1
+    degree_keep = np.bincount(owner[~from_remove], minlength=c) + 1
+    degree_remove = np.bincount(owner[from_remove], minlength=c) + 1
     ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
     return ok
 
