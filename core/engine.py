@@ -71,7 +71,7 @@ def run(p: Problem) -> list:
     conn = topology.build(F, n)
     Q, area = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
-        p.feature_edges, p.feature_edge_weights,
+        p.feature_edges, p.feature_edge_weights, p.probabilistic_sigma,
     )
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
     locked = p.locked | _non_manifold_vertices(conn, F, n)

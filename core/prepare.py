@@ -27,6 +27,7 @@ class Problem:
     line_weights: np.ndarray
     importance: object
     boundary_weight: float
+    probabilistic_sigma: float
     locked: np.ndarray
     progress: object
     seed: int
@@ -50,7 +51,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         "max_error", "line_weight", "vertex_weights", "importance", "boundary_weight", "locked",
         "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
         "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
-        "weld_distance",
+        "weld_distance", "probabilistic_sigma",
     }
     unknown = set(options) - known
     if unknown:
@@ -70,6 +71,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
     imp = o.get("importance")
     importance = None if imp is None else checks.per_vertex(imp, n, "importance")
     boundary_weight = checks.non_negative(o.get("boundary_weight", 1.0), "boundary_weight")
+    probabilistic_sigma = checks.non_negative(o.get("probabilistic_sigma", 0.0), "probabilistic_sigma")
     lk = o.get("locked")
     locked = np.zeros(n, dtype=bool) if lk is None else checks.per_vertex(lk, n, "locked", dtype=bool)
     progress = o.get("progress")
@@ -150,6 +152,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         line_weights=line_weights,
         importance=importance,
         boundary_weight=boundary_weight,
+        probabilistic_sigma=probabilistic_sigma,
         locked=locked,
         progress=progress,
         seed=int(seed),

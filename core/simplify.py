@@ -32,6 +32,7 @@ def simplify(
     feature_weight: float = 1.0,
     edge_weights=None,
     weld_distance: Optional[float] = None,
+    probabilistic_sigma: float = 0.0,
 ) -> SimplifyResult:
     """Simplify a triangle mesh by edge collapse under quadric + line-quadric error.
 
@@ -51,6 +52,9 @@ def simplify(
       locked: (n,) bool, vertices that never move and are never removed.
       feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)
         weighted by ``feature_weight`` or by per-edge ``edge_weights`` (k,).
+      probabilistic_sigma: >= 0, the alternative regulariser the paper compares with
+        (Trettner & Kobbelt 2020, isotropic normal noise, in units of the bounding-box
+        diagonal); 0 (default) leaves it off. Combine with line_weight=0 to compare.
 
     Carried data:
       vertex_attributes: {name: (n, k)} interpolated along each collapsed edge.
@@ -86,6 +90,7 @@ def simplify(
         feature_weight=feature_weight,
         edge_weights=edge_weights,
         weld_distance=weld_distance,
+        probabilistic_sigma=probabilistic_sigma,
     )[0]
 
 

@@ -31,11 +31,15 @@ def build(
     boundary_weight: float,
     feature_edges,
     feature_edge_weights,
+    probabilistic_sigma: float = 0.0,
 ) -> tuple:
     """Returns (Q (n, 10), vertex areas (n,)) for the input mesh.
 
     line_weights: (n,) w_i of Eq. 16; importance: (n,) or None (Sec. 4.4.1 scaling);
-    feature_edges: (k, 2) or None with feature_edge_weights (k,) (Eq. 19).
+    feature_edges: (k, 2) or None with feature_edge_weights (k,) (Eq. 19);
+    probabilistic_sigma: normal noise of Trettner & Kobbelt's probabilistic planes, in
+    units of the (normalised) bounding-box diagonal: the alternative regulariser the
+    paper compares with (Fig. 9), off at 0.
     """
     n = len(vertices)
     normals, areas = face_frames(vertices, faces)
@@ -54,6 +58,12 @@ def build(
     if np.any(line_w > 0):
         q += quadrics.line_quadrics(vertex_normal, vertices, line_w)
 
+    if probabilistic_sigma > 0:
+        # With isotropic normal noise sigma, a plane through p costs its squared distance
+        # plus sigma^2 |x - p|^2 in expectation (TK20, Sec. 3); p the vertex, area-weighted
+        # like the planes. Position noise only adds a constant, which the per-area cost
+        # ordering ignores.
+        q += quadrics.point_quadrics(vertices, probabilistic_sigma ** 2 * vertex_area)
     if boundary_weight > 0:
         q += _boundary_quadrics(vertices, normals, conn, boundary_weight, n)
     if feature_edges is not None and len(feature_edges):

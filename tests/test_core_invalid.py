@@ -87,6 +87,11 @@ def test_negative_boundary_weight():
     _raises(r"boundary_weight", boundary_weight=-1.0)
 
 
+@pytest.mark.parametrize("sigma", [-0.1, float("nan"), float("inf")])
+def test_bad_probabilistic_sigma(sigma):
+    _raises(r"probabilistic_sigma", probabilistic_sigma=sigma)
+
+
 def test_negative_feature_weight():
     _raises(r"feature_weight", feature_edges=[[0, 1]], feature_weight=-2.0)
 

@@ -104,11 +104,11 @@ def test_minimize_never_fails_on_singular_systems():
     np.testing.assert_allclose(x[1], fallback[1], atol=1e-9)
 
 
-def _flat_grid_quadrics(w, boundary_weight=1.0, n=8):
+def _flat_grid_quadrics(w, boundary_weight=1.0, n=8, sigma=0.0):
     V, F = mg.grid(n, jitter=0.2, seed=7)
     V = V - 0.5  # near the engine's normalised frame (centred, unit-ish size)
     conn = topology.build(F, len(V))
-    Q, area = vertex_quadrics.build(V, F, conn, np.full(len(V), w), None, boundary_weight, None, None)
+    Q, area = vertex_quadrics.build(V, F, conn, np.full(len(V), w), None, boundary_weight, None, None, sigma)
     return V, F, Q, area
 
 
@@ -155,6 +155,19 @@ def test_vertex_quadric_line_term_is_w_times_area_times_line_distance():
     diff = quadrics.evaluate_raw(Q1, x) - quadrics.evaluate_raw(Q0, x)
     expected = 0.01 * area * ((x[:, :2] - V[:, :2]) ** 2).sum(1)
     np.testing.assert_allclose(diff, expected, rtol=1e-8, atol=1e-14)
+
+
+def test_probabilistic_term_is_sigma_squared_times_area_times_point_distance():
+    # TK20's isotropic normal noise: in expectation a plane through p costs
+    # sigma^2 |x - p|^2 more, with p the vertex; here area-weighted like the planes.
+    V, F, Q1, area = _flat_grid_quadrics(0.0, sigma=0.05)
+    _, _, Q0, _ = _flat_grid_quadrics(0.0)
+    rng = np.random.default_rng(9)
+    x = V + rng.normal(size=V.shape) * 0.1
+    diff = quadrics.evaluate_raw(Q1, x) - quadrics.evaluate_raw(Q0, x)
+    np.testing.assert_allclose(diff, 0.05**2 * area * ((x - V) ** 2).sum(1), rtol=1e-8, atol=1e-14)
+    # ... and like the line quadric it makes the flat-region solve well-posed.
+    assert np.all(np.linalg.cond(_A(Q1)) < 1e8)
 
 
 def test_optimum_on_a_plane_is_the_area_weighted_centroid():
