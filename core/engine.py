@@ -31,7 +31,7 @@ from .wedges import Wedges
 from .geometry import edge_parameter, face_frames
 
 # Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
-SELECTION_ROUNDS = 3
+SELECTION_ROUNDS = 4
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential
 # greedy order more closely (better Hausdorff), higher needs fewer passes.
 COST_QUANTILE = 0.25

@@ -53,8 +53,9 @@ def simplify(
       feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)
         weighted by ``feature_weight`` or by per-edge ``edge_weights`` (k,).
       probabilistic_sigma: >= 0, the alternative regulariser the paper compares with
-        (Trettner & Kobbelt 2020, isotropic normal noise, in units of the bounding-box
-        diagonal); 0 (default) leaves it off. Combine with line_weight=0 to compare.
+        (Trettner & Kobbelt 2020): the standard deviation of isotropic noise on the unit
+        face normals (dimensionless; sigma^2 plays the part of w). 0 (default) leaves it
+        off; combine with line_weight=0 to compare the two.
 
     Carried data:
       vertex_attributes: {name: (n, k)} interpolated along each collapsed edge.

@@ -37,8 +37,8 @@ def build(
 
     line_weights: (n,) w_i of Eq. 16; importance: (n,) or None (Sec. 4.4.1 scaling);
     feature_edges: (k, 2) or None with feature_edge_weights (k,) (Eq. 19);
-    probabilistic_sigma: normal noise of Trettner & Kobbelt's probabilistic planes, in
-    units of the (normalised) bounding-box diagonal: the alternative regulariser the
+    probabilistic_sigma: standard deviation of the noise on the unit normals of Trettner
+    & Kobbelt's probabilistic planes (dimensionless): the alternative regulariser the
     paper compares with (Fig. 9), off at 0.
     """
     n = len(vertices)

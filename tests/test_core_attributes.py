@@ -115,7 +115,9 @@ def test_seams_survive_as_continuous_polylines(name):
     assert len(mg.boundary_edges(r.faces)) == 0, "closed input got a boundary"
     if name != "sphere_fan_poles":  # every pole-ring vertex there is a locked seam end
         assert r.stats.stop_reason == "target_reached"
-    _check_seams(V, F, UV, split, r)
+    # The sphere's meridian seams may end as chords of up to 90 degrees (sagitta 0.2 of
+    # the chord): its pole rings are locked, so the meridians take the coarsening.
+    _check_seams(V, F, UV, split, r, chord=0.2 if name == "sphere_fan_poles" else 0.15)
 
 
 @pytest.mark.parametrize("name", sorted(UV_MESHES))
