@@ -80,13 +80,6 @@ def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
     )
 
 
-def min_per_vertex(faces: np.ndarray, corner_values: np.ndarray, n_vertices: int, fill) -> np.ndarray:
-    """Minimum of a per-corner value (3m,) over each vertex's corners; ``fill`` where none."""
-    out = np.full(n_vertices, fill, dtype=corner_values.dtype)
-    np.minimum.at(out, faces.ravel(), corner_values)
-    return out
-
-
 def carry_order(order: np.ndarray, alive_faces: np.ndarray) -> np.ndarray:
     """The half-edge order of the previous pass, renumbered after dead faces are dropped."""
     alive_he = np.repeat(alive_faces, 3)
@@ -99,11 +92,6 @@ def any_corner(flags: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(m,) whether any corner of each face has a set per-vertex flag. Three gathers and
     two ors: reductions along a length-3 axis are several times slower in NumPy."""
     return flags[faces[:, 0]] | flags[faces[:, 1]] | flags[faces[:, 2]]
-
-
-def min_corner(values: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(m,) smallest per-vertex value over each face's corners."""
-    return np.minimum(np.minimum(values[faces[:, 0]], values[faces[:, 1]]), values[faces[:, 2]])
 
 
 def next_corner(corner: np.ndarray) -> np.ndarray:

@@ -32,12 +32,12 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     from_keep = owner < c
     collapse = np.where(from_keep, owner, owner - c)
     faces = corners // 3
-    slot = corners % 3
-    F = s.F
+    corner_vertex = s.F.ravel()
     # Each gathered corner is the moving end itself; its face's other two corners stay put
     # (or one of them is the other end, and the face dies with the edge).
-    nb_next = F.ravel()[faces * 3 + (slot + 1) % 3]
-    nb_prev = F.ravel()[faces * 3 + (slot + 2) % 3]
+    after = topology.next_corner(corners)
+    nb_next = corner_vertex[after]
+    nb_prev = corner_vertex[topology.next_corner(after)]
     other_end = np.where(from_keep, remove[collapse], keep[collapse])
     dying = (nb_next == other_end) | (nb_prev == other_end)
 
@@ -45,7 +45,7 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
 
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
     # the face's own cyclic order, with a the moving corner.
-    p_a = s.V[F.ravel()[corners]]
+    p_a = s.V[corner_vertex[corners]]
     p_b = s.V[nb_next]
     p_c = s.V[nb_prev]
     x = pos[collapse]
