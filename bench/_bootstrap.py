@@ -3,7 +3,8 @@
 Import this first in every bench script (before bpy): ``bpy`` reads the BLENDER_USER_*
 variables when it is imported, so they must be set before. They point at
 ``$LQLOD_BLENDER_HOME`` or ``<repo>/.blender-user`` (git-ignored), the same place
-tools/env.sh uses, so a bench never reads or writes the real ~/.config/blender.
+tools/env.sh uses, with HOME redirected too (tools/blender_env.py, shared with the tests),
+so a bench never reads or writes the real ~/.config/blender.
 """
 from __future__ import annotations
 
@@ -19,17 +20,9 @@ DEFAULT_MESH_DIR = (REPO_ROOT / ".." / "shared" / "meshes").resolve()
 def _isolate_blender_user_dirs() -> None:
     if "bpy" in sys.modules:
         raise RuntimeError("bench/_bootstrap must be imported before bpy")
-    base = Path(os.environ.get("LQLOD_BLENDER_HOME", REPO_ROOT / ".blender-user")).resolve()
-    dirs = {
-        "BLENDER_USER_RESOURCES": base,
-        "BLENDER_USER_CONFIG": base / "config",
-        "BLENDER_USER_SCRIPTS": base / "scripts",
-        "BLENDER_USER_DATAFILES": base / "datafiles",
-        "BLENDER_USER_EXTENSIONS": base / "extensions",
-    }
-    for key, path in dirs.items():
-        path.mkdir(parents=True, exist_ok=True)
-        os.environ[key] = str(path)
+    from tools.blender_env import isolated_blender_env
+
+    os.environ.update(isolated_blender_env(os.environ.get("LQLOD_BLENDER_HOME", REPO_ROOT / ".blender-user")))
 
 
 for _p in (str(REPO_ROOT), str(BENCH_DIR)):

@@ -59,6 +59,10 @@ import time
 from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
+if str(REPO_ROOT) not in sys.path:
+    sys.path.insert(0, str(REPO_ROOT))
+from tools.blender_env import isolated_blender_env  # noqa: E402  (re-exported for the tests)
+
 EXTENSION_ID = "line_quadric_lod"
 REPO_MODULE = "user_default"
 EXT_MODULE = f"bl_ext.{REPO_MODULE}.{EXTENSION_ID}"
@@ -94,28 +98,6 @@ def blender_ext_tool() -> Path:
 def blender_valid_tags() -> Path:
     """The tag list ``blender -c extension build/validate`` enforces (blender_ext.py alone does not)."""
     return bpy_scripts_dir() / "modules" / "_bpy_internal" / "extensions" / "tags.py"
-
-
-def isolated_blender_env(tmp_dir) -> dict:
-    """Environment overrides that keep Blender inside ``tmp_dir`` (creates the folders).
-
-    Returns only the overrides; merge them into ``os.environ`` for a child process.
-    HOME is redirected too, so nothing can fall back to the real ``~/.config/blender``.
-    """
-    base = Path(tmp_dir).resolve()
-    dirs = {
-        "BLENDER_USER_RESOURCES": base,
-        "BLENDER_USER_CONFIG": base / "config",
-        "BLENDER_USER_SCRIPTS": base / "scripts",
-        "BLENDER_USER_DATAFILES": base / "datafiles",
-        "BLENDER_USER_EXTENSIONS": base / "extensions",
-        "HOME": base / "home",
-    }
-    for d in dirs.values():
-        d.mkdir(parents=True, exist_ok=True)
-    env = {k: str(v) for k, v in dirs.items()}
-    env["PYTHONNOUSERSITE"] = "1"
-    return env
 
 
 def _run_tool(args: list[str], timeout: float = 120) -> subprocess.CompletedProcess:
