@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import selection, topology, validation, vertex_quadrics
+from . import quadrics, selection, topology, validation, vertex_quadrics
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
 from .result import (
@@ -44,7 +44,7 @@ class State:
     the remembered rejections stay valid from pass to pass."""
 
     V: np.ndarray
-    Q: np.ndarray
+    Q: np.ndarray  # (n, 10) column-major: see quadrics.pair_sums
     area: np.ndarray
     F: np.ndarray
     face_origin: np.ndarray
@@ -52,11 +52,11 @@ class State:
     X: np.ndarray  # stacked vertex attributes (n, K)
     wedges: object
     touched: np.ndarray  # pass in which each vertex's neighbourhood last changed
-    rejected_keys: np.ndarray
-    rejected_pass: np.ndarray
+    rejected_pass: np.ndarray  # (3m,) per half-edge: pass of its edge's last rejection, 0 never
     area_scale: float = 1.0
     half_edge_order: object = None  # carried to the next pass's connectivity sort
-    cost_cache: object = None  # (edge keys, keep, position, cost) of the last pass
+    cost_cache: object = None  # (keep, position, cost) of the last pass's candidates
+    cost_slot: object = None  # (3m,) per half-edge: its edge's row in cost_cache, or -1
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
     kind: object = None  # last pass's vertex kinds
     moved: object = None  # (n,) vertices that were ever given a new position
@@ -79,9 +79,9 @@ def run(p: Problem) -> list:
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
     s = State(
-        V=p.vertices.copy(), Q=Q, area=area, F=F, face_origin=p.face_origin, locked=locked,
+        V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=locked,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
-        rejected_keys=np.zeros(0, dtype=np.int64), rejected_pass=np.zeros(0, dtype=np.int64),
+        rejected_pass=np.zeros(3 * len(F), dtype=np.int64),
         half_edge_order=conn.half_edge_order,
         changed=np.zeros(n, dtype=bool),
         moved=np.zeros(n, dtype=bool),
@@ -215,13 +215,7 @@ def _remember_rejections(s: State, conn, cand, rejected, pass_no):
     does not block its neighbourhood pass after pass."""
     if len(rejected) == 0:
         return
-    keys = conn.edge_keys[cand.edge[rejected]]
-    keys = np.concatenate([s.rejected_keys, keys])
-    passes = np.concatenate([s.rejected_pass, np.full(len(rejected), pass_no)])
-    order = np.argsort(keys, kind="stable")
-    keys, passes = keys[order], passes[order]
-    last = np.append(keys[1:] != keys[:-1], True)  # keep the latest pass per key
-    s.rejected_keys, s.rejected_pass = keys[last], passes[last]
+    topology.set_on_half_edges(s.rejected_pass, conn, cand.edge[rejected], pass_no)
 
 
 def _apply(s: State, conn, cand, chosen, pass_no):
@@ -235,7 +229,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.changed[keep] = True
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
     s.V[keep] = pos
-    s.Q[keep] += s.Q[remove]
+    quadrics.merge_rows(s.Q, keep, remove)
     s.area[keep] += s.area[remove]
     remap = np.arange(len(s.V))
     remap[remove] = keep
@@ -244,6 +238,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.F = F[alive]
     s.face_origin = s.face_origin[alive]
     s.half_edge_order = topology.carry_order(conn.half_edge_order, alive)
+    s.rejected_pass = topology.carry_half_edges(s.rejected_pass, alive)
+    s.cost_slot = topology.carry_half_edges(s.cost_slot, alive)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     is_keep = np.zeros(len(s.V), dtype=bool)

@@ -75,15 +75,37 @@ def accumulate(owners: np.ndarray, quadrics: np.ndarray, count: int) -> np.ndarr
 def scatter_sum(owners: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
     """(count,) or (count, d): values (k,) or (k, d) summed into the bins listed in
     owners (k,) or (k, c). One value column at a time is repeated per owner, never the
-    whole (k, d) block (a third of a GB of quadrics on a 2M-face mesh)."""
+    whole (k, d) block (a third of a GB of quadrics on a 2M-face mesh). The result is
+    column-major, the layout the engine keeps its quadrics in (see ``pair_sums``)."""
     owners = owners[:, None] if owners.ndim == 1 else owners
     flat_owners = owners.ravel()
     flat = values.ndim == 1
     vals = values[:, None] if flat else values
-    out = np.empty((count, vals.shape[1]))
+    out = np.empty((count, vals.shape[1]), order="F")
     for d in range(vals.shape[1]):
         out[:, d] = np.bincount(flat_owners, weights=np.repeat(vals[:, d], owners.shape[1]), minlength=count)
     return out[:, 0] if flat else out
+
+
+def pair_sums(Q: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """(k, 10) column-major: Q[i] + Q[j], the quadric of each collapsed pair.
+
+    Q is kept column-major (coefficient by coefficient): gathering one coefficient of
+    all pairs at a time reads a column that stays in cache, 2-7x faster than gathering
+    whole 80-byte rows, and the solve reads the result column by column too."""
+    q = np.empty((len(i), Q.shape[1]), order="F")
+    for c in range(Q.shape[1]):
+        column = Q[:, c]
+        np.add(column[i], column[j], out=q[:, c])
+    return q
+
+
+def merge_rows(Q: np.ndarray, keep: np.ndarray, remove: np.ndarray) -> None:
+    """Q[keep] += Q[remove] in place (the paper's memory accumulation), column by column
+    for the same reason as ``pair_sums``. ``keep`` must not repeat."""
+    for c in range(Q.shape[1]):
+        column = Q[:, c]
+        column[keep] += column[remove]
 
 
 def evaluate(q: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -108,7 +130,11 @@ def minimize(q: np.ndarray, fallback: np.ndarray, area_scale: float) -> np.ndarr
     a00 = a00 + eps
     a11 = a11 + eps
     a22 = a22 + eps
-    r = -q[:, _BX:_C] + eps[:, None] * fallback
+    # Right-hand side -b plus the regulariser's pull, one coordinate at a time (q is
+    # column-major, fallback row-major: mixing them in one 2-D expression is slow).
+    r0 = eps * fallback[:, 0] - q[:, _BX]
+    r1 = eps * fallback[:, 1] - q[:, _BY]
+    r2 = eps * fallback[:, 2] - q[:, _BZ]
     # Symmetric 3x3 inverse by cofactors: vectorised and exact enough at this conditioning.
     c00 = a11 * a22 - a12 * a12
     c01 = a02 * a12 - a01 * a22
@@ -117,12 +143,12 @@ def minimize(q: np.ndarray, fallback: np.ndarray, area_scale: float) -> np.ndarr
     c12 = a01 * a02 - a00 * a12
     c22 = a00 * a11 - a01 * a01
     det = a00 * c00 + a01 * c01 + a02 * c02
-    x = np.empty_like(r)
-    x[:, 0] = c00 * r[:, 0] + c01 * r[:, 1] + c02 * r[:, 2]
-    x[:, 1] = c01 * r[:, 0] + c11 * r[:, 1] + c12 * r[:, 2]
-    x[:, 2] = c02 * r[:, 0] + c12 * r[:, 1] + c22 * r[:, 2]
     good = np.abs(det) > 1e-300
-    x[good] /= det[good, None]
+    d = np.where(good, det, 1.0)
+    x = np.empty_like(fallback)
+    x[:, 0] = (c00 * r0 + c01 * r1 + c02 * r2) / d
+    x[:, 1] = (c01 * r0 + c11 * r1 + c12 * r2) / d
+    x[:, 2] = (c02 * r0 + c12 * r1 + c22 * r2) / d
     x[~good] = fallback[~good]
     return x
 

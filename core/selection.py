@@ -57,33 +57,34 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     idx = np.flatnonzero(ok)
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
-    keys = conn.edge_keys[idx]
 
     # Reuse last pass's position and cost where neither end changed (quadric, position
     # or kind): most of the mesh is untouched by any one pass.
-    position = np.empty((len(idx), 3))
-    cost = np.empty(len(idx))
-    fresh = np.ones(len(idx), dtype=bool)
-    cache = s.cost_cache
-    if cache is not None and len(cache[0]):
-        ckeys, ckeep, cpos, ccost = cache
-        at = np.minimum(np.searchsorted(ckeys, keys), len(ckeys) - 1)
-        reuse = (ckeys[at] == keys) & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
-        position[reuse] = cpos[at[reuse]]
-        cost[reuse] = ccost[at[reuse]]
-        fresh = ~reuse
-    if fresh.any():
+    if s.cost_cache is not None:
+        ckeep, cpos, ccost = s.cost_cache
+        at = s.cost_slot[conn.edge_he0[idx]]
+        cached = at >= 0
+        at = np.where(cached, at, 0)
+        reuse = cached & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
+        # Gather every row and overwrite the fresh minority: cheaper than masked copies.
+        position = np.take(cpos, at, axis=0)
+        cost = ccost[at]
+        fresh = np.flatnonzero(~reuse)
+    else:
+        position = np.empty((len(idx), 3))
+        cost = np.empty(len(idx))
+        fresh = np.arange(len(idx))
+    if len(fresh):
         position[fresh], cost[fresh] = _optimal(s, keep[fresh], remove[fresh], k_keep[fresh], k_remove[fresh])
-    s.cost_cache = (keys, keep, position, cost)
+    s.cost_cache = (keep, position, cost)
+    s.cost_slot = np.full(3 * len(s.F), -1, dtype=np.int64)
+    topology.set_on_half_edges(s.cost_slot, conn, idx, np.arange(len(idx)))
     return Candidates(idx, keep, remove, position, cost)
 
 
 def _optimal(s, keep, remove, k_keep, k_remove):
     """Position and quadric error of collapsing each remove into its keep."""
-    # Column-major: the solve reads each of the 10 coefficients as one contiguous column,
-    # several times faster than striding across rows.
-    q = np.empty((len(keep), s.Q.shape[1]), order="F")
-    np.add(s.Q[keep], s.Q[remove], out=q)
+    q = quadrics.pair_sums(s.Q, keep, remove)
     v_keep, v_remove = s.V[keep], s.V[remove]
     position = quadrics.minimize(q, 0.5 * (v_keep + v_remove), s.area_scale)
     fixed = (k_keep == LOCKED) | ((k_keep == SEAM) & (k_remove == FREE))
@@ -97,13 +98,12 @@ def _optimal(s, keep, remove, k_keep, k_remove):
 
 def _still_rejected(s, conn, a, b) -> np.ndarray:
     """Edges found invalid in an earlier pass whose neighbourhood has not changed since."""
-    if len(s.rejected_keys) == 0:
-        return np.zeros(len(a), dtype=bool)
-    pos = np.searchsorted(s.rejected_keys, conn.edge_keys)
-    pos = np.minimum(pos, len(s.rejected_keys) - 1)
-    found = s.rejected_keys[pos] == conn.edge_keys
+    rejected_in = s.rejected_pass[conn.edge_he0]
+    second = conn.edge_he1
+    has_second = second >= 0
+    rejected_in[has_second] = np.maximum(rejected_in[has_second], s.rejected_pass[second[has_second]])
     last_change = np.maximum(s.touched[a], s.touched[b])
-    return found & (last_change < s.rejected_pass[pos])
+    return last_change < rejected_in
 
 
 def independent_set(cand: Candidates, conn, n, seed, eligible=None) -> np.ndarray:

@@ -88,6 +88,24 @@ def carry_order(order: np.ndarray, alive_faces: np.ndarray) -> np.ndarray:
     return new_index[kept]
 
 
+def set_on_half_edges(per_half_edge: np.ndarray, conn: Connectivity, edges: np.ndarray, values) -> None:
+    """per_half_edge[h] = value for both half-edges h of each of ``edges`` (k,).
+
+    Per-half-edge memory outlives the pass: a face's slots keep their order when faces
+    are relabelled and compacted, so an edge whose ends did not change is found again
+    under the same half-edges, renumbered by ``carry_half_edges``, without a search."""
+    values = np.broadcast_to(values, edges.shape)
+    per_half_edge[conn.edge_he0[edges]] = values
+    second = conn.edge_he1[edges]
+    has_second = second >= 0
+    per_half_edge[second[has_second]] = values[has_second]
+
+
+def carry_half_edges(per_half_edge: np.ndarray, alive_faces: np.ndarray) -> np.ndarray:
+    """Per-half-edge values renumbered after dead faces are dropped."""
+    return per_half_edge[np.repeat(alive_faces, 3)]
+
+
 def any_corner(flags: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(m,) whether any corner of each face has a set per-vertex flag. Three gathers and
     two ors: reductions along a length-3 axis are several times slower in NumPy."""
