@@ -41,7 +41,11 @@ VIEWS = {
 DEFAULT_VIEW = dict(direction=(0.5, -1.0, 0.4), up=(0, 0, 1), closeup=((0.5, 0.5), 0.35))
 
 
-def wire_material(engine: str):
+# The colour attribute render(colors=...) writes and wire_material(vertex_colors=True) reads.
+COLOR_ATTRIBUTE = "render_color"
+
+
+def wire_material(engine: str, vertex_colors: bool = False):
     mat = bpy.data.materials.new("shaded_wire")
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
@@ -49,6 +53,10 @@ def wire_material(engine: str):
     out = nodes.new("ShaderNodeOutputMaterial")
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (0.45, 0.50, 0.58, 1.0)
+    if vertex_colors:
+        attr = nodes.new("ShaderNodeAttribute")
+        attr.attribute_name = COLOR_ATTRIBUTE
+        links.new(attr.outputs["Color"], diffuse.inputs["Color"])
     if engine != "CYCLES":
         links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
         mat.diffuse_color = (0.45, 0.50, 0.58, 1.0)
@@ -125,8 +133,14 @@ def _look_rotation(direction, up):
     return Matrix((x, y, z)).transposed()
 
 
-def render(scene, V, F, mat, path: Path) -> None:
+def render(scene, V, F, mat, path: Path, colors=None) -> None:
+    """Render the mesh (V, F) with ``mat`` into ``path``; ``colors`` (n, 3) linear RGB per
+    vertex, if given, are stored for a wire_material(vertex_colors=True) to show."""
     me = mesh_from_arrays("render_mesh", V, F)
+    if colors is not None:
+        rgba = np.ones((len(V), 4), dtype=np.float32)
+        rgba[:, :3] = colors
+        me.color_attributes.new(COLOR_ATTRIBUTE, "FLOAT_COLOR", "POINT").data.foreach_set("color", rgba.ravel())
     me.materials.append(mat)
     ob = bpy.data.objects.new("render_mesh", me)
     scene.collection.objects.link(ob)
