@@ -266,48 +266,18 @@ for o in (empty, wire, arm):
     (bpy.data.meshes if d.__class__.__name__ == "Mesh" else bpy.data.armatures).remove(d)
 R["errors_diff"] = diff(state, data_state())
 
-# --- 6. The panel draws for every state, referencing only real properties and operators
-class OperatorButton:
-    def __init__(self, rna, idname, log):
-        object.__setattr__(self, "_rna", rna); object.__setattr__(self, "_idname", idname)
-        object.__setattr__(self, "_log", log)
-    def __setattr__(self, name, value):
-        if name not in self._rna.properties:
-            raise AttributeError(f"{self._idname} has no property {name!r}")
-        self._log.append(("set", self._idname, name, value))
-
-class FakeLayout:
-    def __init__(self, log):
-        self.log = log
-        self.active = True; self.enabled = True; self.use_property_split = False; self.use_property_decorate = True
-    def _child(self, *a, **k):
-        return FakeLayout(self.log)
-    row = column = box = split = grid_flow = column_flow = _child
-    def prop(self, data, name, **kw):
-        if name not in data.bl_rna.properties:
-            raise AttributeError(f"panel draws unknown property {name!r} of {data}")
-        self.log.append(("prop", name))
-    def prop_search(self, data, name, search_data, search_name, **kw):
-        if name not in data.bl_rna.properties or search_name not in search_data.bl_rna.properties:
-            raise AttributeError(f"panel searches unknown property {name!r}/{search_name!r}")
-        self.log.append(("prop_search", name))
-    def operator(self, idname, **kw):
-        mod, fn = idname.split(".")
-        rna = getattr(getattr(bpy.ops, mod), fn).get_rna_type()  # raises KeyError if not registered
-        self.log.append(("operator", idname))
-        return OperatorButton(rna, idname, self.log)
-    def label(self, text="", **kw):
-        self.log.append(("label", text))
-    def separator(self, **kw):
-        pass
-
+# --- 6. The panel draws for every state, referencing only real properties and operators.
+# bench/ui_recorder.py stands in for UILayout (bench/fig_panel.py draws the same recording
+# as the docs' picture of the panel): it raises on an unknown property or operator.
+ui_recorder = importlib.import_module("bench.ui_recorder")
 panel_cls = panel_mod.VIEW3D_PT_line_quadric_lod
 settings = scene.line_quadric_lod
-draws, draw_settings = {}, {}
+draws, draw_settings, draw_items = {}, {}, {}
 def draw(tag):
-    log = []
-    panel_cls.draw(types.SimpleNamespace(layout=FakeLayout(log), draw_report=panel_cls.draw_report), bpy.context)
-    draws[tag] = log
+    root = ui_recorder.record_panel(panel_cls, bpy.context)
+    draws[tag] = root.log
+    draw_items[tag] = [[it["kind"], it.get("prop") or it.get("idname"), it["text"], it.get("display"), active]
+                       for it, active, _enabled in ui_recorder.walk(root.to_dict())]
     draw_settings[tag] = {name: getattr(settings, name) for name in lod.LodSettings.names()}
 select_only()
 bpy.context.view_layer.objects.active = None
@@ -320,6 +290,10 @@ for source in ('NONE', 'VERTEX_GROUP', 'ARMATURE'):
 settings.importance_source = 'VERTEX_GROUP'; settings.importance_group = "Missing"
 draw("missing_group")
 settings.importance_source = 'NONE'
+settings.target_triangles = 20000; settings.preserve_seams = False
+draw("greyed")
+settings.target_triangles = 0; settings.preserve_seams = True
+R["draw_items"] = draw_items
 R["draws"] = draws
 R["draw_settings"] = draw_settings
 R["panel_registered"] = hasattr(bpy.types, "VIEW3D_PT_line_quadric_lod")
@@ -517,6 +491,36 @@ def test_panel_draws_in_every_state(res):
     assert any("has no group" in x[1] for x in draws["missing_group"] if x[0] == "label")
     # The last run's report is shown: one row per LOD.
     assert ["label", "LOD2"] in draws["NONE"]
+
+
+# What the docs' picture of the panel (bench/fig_panel.py) shows with the default settings:
+# each field's label (RNA name or the panel's text override) and value as Blender formats it.
+PANEL_DEFAULTS = {
+    "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"], "levels": ["Levels", "3"],
+    "level_factor": ["Factor", "0.50"], "line_weight": ["Uniformity", "0.0010"],
+    "importance_source": ["Source", "None"],
+    "preserve_boundaries": ["Boundaries", ""], "boundary_strength": ["", "1.00"],
+    "preserve_seams": ["UV Seams", ""], "seam_strength": ["", "1.00"],
+    "preserve_sharp": ["Sharp Edges", ""], "sharp_strength": ["", "1.00"],
+    "preserve_materials": ["Material Borders", ""], "material_strength": ["", "1.00"],
+    "use_modifiers": ["Apply Modifiers", ""], "measure_deviation": ["Measure Deviation", ""],
+}
+
+
+def test_panel_recording_names_values_and_greys_out(res):
+    items = res["draw_items"]
+    shown = {i[1]: i[2:4] for i in items["NONE"] if i[0] == "prop"}
+    assert shown == PANEL_DEFAULTS
+    assert [i[2] for i in items["NONE"] if i[0] == "operator"] == [
+        "Paint Importance", "Importance from Armature", "Generate LODs"]
+    assert all(i[4] for i in items["NONE"])  # nothing greyed out by default
+    assert ["label", None, "LOD1..3: 50% · 25% · 12.5%", None, True] in items["NONE"]
+    group = {i[1]: i[2:4] for i in items["VERTEX_GROUP"] if i[0] in ("prop", "prop_search")}
+    assert group["importance_group"] == ["Group", "Top"]
+    assert group["importance_mode"] == ["Mode", "Soft"] and group["importance_strength"] == ["Strength", "1.00"]
+    # Triangles > 0 greys out the Ratio, an option that is off greys out its strength.
+    assert sorted(i[1] for i in items["greyed"] if not i[4]) == ["ratio", "seam_strength"]
+    assert ["label", None, "LOD1..3: 20,000 · 10,000 · 5,000 triangles", None, True] in items["greyed"]
 
 
 def test_paint_importance(res):
