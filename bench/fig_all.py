@@ -1,9 +1,10 @@
-"""Regenerate every figure and render, and copy what each script printed into docs/figures.md.
+"""Regenerate every figure and render, and copy what each script printed into its doc.
 
     .venv/bin/python bench/fig_all.py [--only fig_planar fig_pareto ...] [--no-docs]
 
 Runs each script below in its own process (bpy can be imported once per process), in
-the repository root, and replaces the block between its markers in docs/figures.md
+the repository root, and replaces the block between its markers in the script's doc
+(docs/figures.md unless DOCS names another: fig_panel's pictures go to docs/panel.md)
 
     <!-- BEGIN output of bench/fig_planar.py -->
     ...
@@ -23,7 +24,13 @@ from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 DOC = REPO_ROOT / "docs" / "figures.md"
-SCRIPTS = ("fig_planar", "fig_weight_sweep", "fig_importance", "fig_pareto", "fig_skinned", "render")
+SCRIPTS = ("fig_planar", "fig_weight_sweep", "fig_importance", "fig_pareto", "fig_skinned", "render", "fig_panel")
+# The doc a script's output block lives in, where it is not DOC.
+DOCS = {"fig_panel": REPO_ROOT / "docs" / "panel.md"}
+
+
+def doc_for(name: str) -> Path:
+    return DOCS.get(name, DOC)
 
 
 def markers(name: str) -> tuple:
@@ -58,17 +65,17 @@ def replace_block(text: str, name: str, body: str) -> str:
     begin, end = markers(name)
     pattern = re.compile(re.escape(begin) + r".*?" + re.escape(end), re.S)
     if not pattern.search(text):
-        raise SystemExit(f"docs/figures.md has no markers for {name}: add\n{begin}\n{end}")
+        doc = doc_for(name).relative_to(REPO_ROOT)
+        raise SystemExit(f"{doc} has no markers for {name}: add\n{begin}\n{end}")
     return pattern.sub(lambda _: f"{begin}\n{body}\n{end}", text)
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--only", nargs="+", choices=SCRIPTS, metavar="NAME", help="a subset of: " + " ".join(SCRIPTS))
-    ap.add_argument("--no-docs", action="store_true", help="run the scripts but leave docs/figures.md alone")
+    ap.add_argument("--no-docs", action="store_true", help="run the scripts but leave the docs alone")
     args = ap.parse_args()
     status = 0
-    text = DOC.read_text(encoding="utf-8") if DOC.exists() and not args.no_docs else None
     head = git_head()
     for name in args.only or SCRIPTS:
         print(f"running bench/{name}.py ...", file=sys.stderr, flush=True)
@@ -79,11 +86,12 @@ def main() -> int:
             continue
         out = proc.stdout.strip()
         print(f"== bench/{name}.py ({seconds:.0f} s)\n{out}\n", flush=True)
-        if text is not None:
+        doc = doc_for(name)
+        if not args.no_docs and doc.exists():
             body = (f"{as_markdown(out)}\n\n<sub>Printed by `.venv/bin/python bench/{name}.py` at commit {head}, "
                     f"{seconds:.0f} s on this machine.</sub>")
-            text = replace_block(text, name, body)
-            DOC.write_text(text, encoding="utf-8")  # after each script, so a later failure keeps it
+            # Read and written per script, so a later failure keeps what is done.
+            doc.write_text(replace_block(doc.read_text(encoding="utf-8"), name, body), encoding="utf-8")
     return status
 
 
