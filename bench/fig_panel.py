@@ -56,6 +56,7 @@ from ui_recorder import record_panel, walk
 GROUP = sample.IMPORTANCE_GROUP
 GENERATE = "object.line_quadric_lod"
 PAINTED = 0.5  # a triangle counts as painted when its vertices' mean weight is above this
+BY_COUNT = 20000  # a Triangles value for the chain preview's other form
 # Nearly frontal (Suzanne faces -Y), so the painted eyes and brow are in view.
 VIEW = dict(direction=(0.35, -1.0, 0.3), up=(0, 0, 1))
 
@@ -357,6 +358,16 @@ def mesh_weights(ob) -> tuple:
     return V, F, vertex_groups.read_weights(ob.data, [GROUP])[:, 0]
 
 
+def preview(recording: dict) -> str:
+    """The Target box's chain preview line."""
+    return next(item["text"] for item, _a, _e in walk(recording)
+                if item["kind"] == "label" and item["text"].startswith("LOD1.."))
+
+
+def greyed(recording: dict) -> list:
+    return [item["text"] or item.get("prop") for item, active, _e in walk(recording) if not active]
+
+
 def painted_share(F, w) -> float:
     """% of the triangles whose vertices' mean importance weight is above PAINTED."""
     return 100.0 * float(np.mean(w[F].mean(axis=1) > PAINTED))
@@ -378,13 +389,16 @@ def build_and_record() -> dict:
         panel_cls = panel.VIEW3D_PT_line_quadric_lod
         out["title"] = panel_cls.bl_label
         out["defaults"] = record_panel(panel_cls, bpy.context).to_dict()
+        settings.target_triangles = BY_COUNT  # recorded only, for the docs' example
+        out["by_count"] = record_panel(panel_cls, bpy.context).to_dict()
+        settings.property_unset("target_triangles")
         out["source"] = mesh_weights(monkey)
 
         with stdout_to_stderr():
             bpy.ops.object.line_quadric_lod_paint()  # selects the painted group as the source
             bpy.ops.object.mode_set(mode='OBJECT')
         out["importance"] = record_panel(panel_cls, bpy.context).to_dict()
-        out["soft_report"], out["soft_seconds"] = generate_from_button(out["importance"], monkey)
+        out["soft_report"], _seconds = generate_from_button(out["importance"], monkey)
         out["soft_last"] = mesh_weights(bpy.data.objects[out["soft_report"]["levels"][-1]["name"]])
 
         for name in LodSettings.names():  # back to the defaults
@@ -453,12 +467,15 @@ def main() -> None:
     t_start = time.perf_counter()
     d = build_and_record()
     theme, title = d["theme"], d["title"]
-    rep, soft = d["report"], d["soft_report"]
+    rep = d["report"]
     V0, F0, w0 = d["source"]
 
     draw_panel(d["defaults"], title, theme, "panel_defaults.png")
     print("`panel_defaults.png`: the panel with its default settings and the sample's Monkey active, drawn by "
-          "bench/fig_panel.py from addon/panel.py's own draw() (not a screenshot: the bpy module has no window).")
+          "bench/fig_panel.py from addon/panel.py's own draw() (not a screenshot: the bpy module has no window); "
+          f"its chain preview reads `{preview(d['defaults'])}`, greyed out: "
+          f"{', '.join(greyed(d['defaults'])) or 'nothing'}. With Triangles = {BY_COUNT:,} the same draw() reads "
+          f"`{preview(d['by_count'])}`, greyed out: {', '.join(greyed(d['by_count'])) or 'nothing'}.")
     draw_panel(d["importance"], title, theme, "panel_importance.png")
     print(f'`panel_importance.png`: the same after **Paint Importance**, which selected the Monkey\'s painted group '
           f'"{GROUP}" as the source (Vertex Group; Soft and strength 1 are the defaults).')
@@ -480,10 +497,10 @@ def main() -> None:
     secs = render_set([d["source"], base_last, soft_last], titles, "panel_weights.png", args, V0, colors=True)
     painted_vertices = int(np.count_nonzero(w0 > 0))
     print(f'`panel_weights.png`: the Monkey\'s painted "{GROUP}" weights in Blender\'s weight-paint colours '
-          f"(blue 0, green 0.5, red 1; {painted_vertices:,} of {len(w0):,} vertices above 0), and LOD{k} "
-          f"({len(base_last[1]):,} triangles) made without and with that importance, each showing the group "
-          f"it carries: {shares[0]:.1f} % of the source's triangles are painted (mean weight above {PAINTED}), "
-          f"{shares[1]:.1f} % of LOD{k}'s without importance and {shares[2]:.1f} % with it "
+          f"(blue 0, green 0.5, red 1; {painted_vertices:,} of {len(w0):,} vertices above 0), and LOD{k} made "
+          f"without ({len(base_last[1]):,} triangles) and with that importance ({len(soft_last[1]):,}), each "
+          f"showing the group it carries: {shares[0]:.1f} % of the source's triangles are painted (mean weight "
+          f"above {PAINTED}), {shares[1]:.1f} % of LOD{k}'s without importance and {shares[2]:.1f} % with it "
           f"(Cycles, {args.size} px, {args.samples} samples, rendered in {secs:.0f} s).")
 
     chain = [d["source"], *d["chain"]]

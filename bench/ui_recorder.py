@@ -161,7 +161,7 @@ class LayoutRecorder:
         self._item({"kind": "separator", "factor": factor})
 
     def to_dict(self) -> dict:
-        """The recording as plain data (JSON-serialisable but for operator property values)."""
+        """The recording as plain data (JSON-serialisable)."""
         return {"kind": self.kind, **self.options, "active": self.active, "enabled": self.enabled,
                 "children": [c.to_dict() if isinstance(c, LayoutRecorder) else dict(c) for c in self.children]}
 
