@@ -28,7 +28,7 @@ from .result import (
     SimplifyStats,
 )
 from .wedges import Wedges
-from .geometry import edge_parameter, face_frames
+from .geometry import edge_parameter, face_frames, rows
 
 # Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
 SELECTION_ROUNDS = 4
@@ -220,7 +220,7 @@ def _remember_rejections(s: State, conn, cand, rejected, pass_no):
 
 def _apply(s: State, conn, cand, chosen, pass_no):
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
-    t = edge_parameter(s.V[keep], s.V[remove], pos)
+    t = edge_parameter(rows(s.V, keep), rows(s.V, remove), pos)
     if s.X.shape[1]:
         s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
     if s.wedges is not None:
@@ -235,17 +235,18 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     remap[remove] = keep
     F = remap[s.F]
     alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
-    s.F = F[alive]
-    s.face_origin = s.face_origin[alive]
-    s.half_edge_order = topology.carry_order(conn.half_edge_order, alive)
-    s.rejected_pass = topology.carry_half_edges(s.rejected_pass, alive)
-    s.cost_slot = topology.carry_half_edges(s.cost_slot, alive)
+    s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
+    s.face_origin = s.face_origin.compress(alive)
+    alive_he = np.repeat(alive, 3)
+    s.half_edge_order = topology.carry_order(conn.half_edge_order, alive_he)
+    s.rejected_pass = s.rejected_pass.compress(alive_he)
+    s.cost_slot = s.cost_slot.compress(alive_he)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     is_keep = np.zeros(len(s.V), dtype=bool)
     is_keep[keep] = True
     around = topology.any_corner(is_keep, s.F)
-    s.touched[s.F[around].ravel()] = pass_no
+    s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
 
 
 def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:

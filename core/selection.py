@@ -36,8 +36,6 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     n = len(s.V)
     a, b = conn.edges[:, 0], conn.edges[:, 1]
     faces_on_edge = conn.edge_faces
-    on_border = np.zeros(n, dtype=bool)
-    on_border[conn.edges[faces_on_edge == 1].ravel()] = True
 
     ka, kb = kind[a], kind[b]
     swap = kb > ka  # the more constrained end survives
@@ -49,7 +47,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     ok = (faces_on_edge == 1) | (faces_on_edge == 2)  # non-manifold edges stay
     ok &= k_remove != LOCKED
     # Boundaries stay boundaries: an inner edge joining two border vertices would pinch.
-    ok &= ~((faces_on_edge == 2) & on_border[a] & on_border[b])
+    ok &= ~((faces_on_edge == 2) & conn.border_vertex[a] & conn.border_vertex[b])
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
     ok &= ~_still_rejected(s, conn, a, b)
@@ -149,5 +147,5 @@ def closed_rings(conn, F, vertices, n) -> np.ndarray:
     hit = np.zeros(n, dtype=bool)
     hit[vertices] = True
     faces_hit = topology.any_corner(hit, F)
-    hit[F[faces_hit].ravel()] = True
+    hit[np.compress(faces_hit, F, axis=0).ravel()] = True
     return hit

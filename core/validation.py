@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import topology
+from .geometry import cross, rows
 
 MIN_NORMAL_COSINE = 0.2
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
@@ -41,17 +42,22 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     other_end = np.where(from_keep, remove[collapse], keep[collapse])
     dying = (nb_next == other_end) | (nb_prev == other_end)
 
-    ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, other_end, from_keep, collapse, c, n)
+    # Around a closed fan every neighbour follows the moving corner exactly once, so the
+    # preceding neighbours add nothing; only open fans (borders) and pinched or locked
+    # vertices need both to see their whole ring.
+    moving = corner_vertex[corners]
+    open_fan = conn.border_vertex[moving] | s.locked[moving]
+    ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
 
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
     # the face's own cyclic order, with a the moving corner.
-    p_a = s.V[corner_vertex[corners]]
-    p_b = s.V[nb_next]
-    p_c = s.V[nb_prev]
-    x = pos[collapse]
+    p_a = rows(s.V, moving)
+    p_b = rows(s.V, nb_next)
+    p_c = rows(s.V, nb_prev)
+    x = rows(pos, collapse)
     ab_old, ac_old, ab_new, ac_new = p_b - p_a, p_c - p_a, p_b - x, p_c - x
-    n_old = np.cross(ab_old, ac_old)
-    n_new = np.cross(ab_new, ac_new)
+    n_old = cross(ab_old, ac_old)
+    n_new = cross(ab_new, ac_new)
     len_old = np.sqrt(np.einsum("ij,ij->i", n_old, n_old))
     len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
@@ -62,10 +68,10 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     ring = np.stack([np.bincount(collapse, weights=n_old[:, j], minlength=c) for j in range(3)], axis=1)
     spread = np.bincount(collapse, weights=len_old, minlength=c)
     flat = np.sqrt(np.einsum("ij,ij->i", ring, ring)) >= FLAT_RING_AGREEMENT * spread
-    bad |= ~dying & flat[collapse] & (np.einsum("ij,ij->i", n_new, ring[collapse]) < 0)
+    bad |= ~dying & flat[collapse] & (np.einsum("ij,ij->i", n_new, rows(ring, collapse)) < 0)
     # Small turns add up over passes: no face may end up facing away from the input face
     # it descends from.
-    source = s.source_normals[s.face_origin[faces]]
+    source = rows(s.source_normals, s.face_origin[faces])
     bad |= ~dying & (np.einsum("ij,ij->i", n_new, source) < 0)
     # Never turn a face into a sliver: the output's worst triangles stay up. A face that
     # already is one may get somewhat worse (not below half its quality), or the
@@ -81,26 +87,27 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     return ok
 
 
-def _link_condition(conn, edges, nb_next, nb_prev, other_end, from_keep, collapse, c, n) -> np.ndarray:
+def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n) -> np.ndarray:
     """Link condition and tetrahedron test from the ring neighbours of both ends.
 
     Every (collapse, neighbour, side) becomes one integer; one sort of them all gives the
     distinct neighbours of each end (degrees) and, where the same neighbour follows on the
-    other side, the neighbours the two ends share."""
-    nb = np.stack([nb_next, nb_prev], axis=1)
-    useful = nb != other_end[:, None]
-    side = np.broadcast_to((~from_keep)[:, None], nb.shape)
-    code = np.sort((collapse[:, None] * np.int64(n) + nb)[useful] * 2 + side[useful])
-    distinct = code[np.concatenate([[True], code[1:] != code[:-1]])] if len(code) else code
+    other side, the neighbours the two ends share. nb_prev counts only where open_fan."""
+    nb = np.concatenate([nb_next, nb_prev.compress(open_fan)])
+    owner = np.concatenate([collapse, collapse.compress(open_fan)])
+    side = np.concatenate([~from_keep, (~from_keep).compress(open_fan)])
+    useful = nb != np.concatenate([other_end, other_end.compress(open_fan)])
+    code = np.sort(((owner * np.int64(n) + nb) * 2 + side).compress(useful))
+    distinct = code.compress(np.concatenate([[True], code[1:] != code[:-1]])) if len(code) else code
     owner = distinct // (2 * n)
     from_remove = (distinct & 1).astype(bool)
     shared_here = np.zeros(len(distinct), dtype=bool)
     shared_here[:-1] = (distinct[1:] == distinct[:-1] + 1) & ~from_remove[:-1]
-    shared = np.bincount(owner[shared_here], minlength=c)
+    shared = np.bincount(owner.compress(shared_here), minlength=c)
     ok = shared == conn.edge_faces[edges]
     # Both ends of degree three around an inner edge: a closed tetrahedron would fold flat.
-    degree_keep = np.bincount(owner[~from_remove], minlength=c) + 1
-    degree_remove = np.bincount(owner[from_remove], minlength=c) + 1
+    degree_keep = np.bincount(owner.compress(~from_remove), minlength=c) + 1
+    degree_remove = np.bincount(owner.compress(from_remove), minlength=c) + 1
     ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
     return ok
 
