@@ -122,7 +122,12 @@ def independent_set(cand: Candidates, conn, n, seed, eligible=None) -> np.ndarra
     cheapest_at_vertex = np.full(n, _NO_RANK, dtype=np.int64)
     np.minimum.at(cheapest_at_vertex, keep, rank)
     np.minimum.at(cheapest_at_vertex, remove, rank)
+    # Only edges between two ranked vertices can lower a minimum that is read later (at
+    # ranked vertices): after the first round that is a small share of the mesh.
+    ranked = cheapest_at_vertex != _NO_RANK
     a, b = conn.edges[:, 0], conn.edges[:, 1]
+    between = np.flatnonzero(ranked[a] & ranked[b])
+    a, b = a[between], b[between]
     cheapest_in_ring = cheapest_at_vertex.copy()
     np.minimum.at(cheapest_in_ring, a, cheapest_at_vertex[b])
     np.minimum.at(cheapest_in_ring, b, cheapest_at_vertex[a])
