@@ -50,9 +50,8 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     ok &= ~((faces_on_edge == 2) & conn.border_vertex[a] & conn.border_vertex[b])
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
-    ok &= ~_still_rejected(s, conn, a, b)
-
     idx = np.flatnonzero(ok)
+    idx = idx.compress(~_still_rejected(s, conn, idx))
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
 
@@ -94,13 +93,13 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     return position, quadrics.evaluate(q, position) / area
 
 
-def _still_rejected(s, conn, a, b) -> np.ndarray:
-    """Edges found invalid in an earlier pass whose neighbourhood has not changed since."""
-    rejected_in = s.rejected_pass[conn.edge_he0]
-    second = conn.edge_he1
-    has_second = second >= 0
-    rejected_in[has_second] = np.maximum(rejected_in[has_second], s.rejected_pass[second[has_second]])
-    last_change = np.maximum(s.touched[a], s.touched[b])
+def _still_rejected(s, conn, edges) -> np.ndarray:
+    """Which of ``edges`` were found invalid in an earlier pass and have not had their
+    neighbourhood changed since. Either half-edge of an edge carries its mark: both are
+    set together, and one can only be missing (its face gone) where an end changed."""
+    rejected_in = s.rejected_pass[conn.edge_he0[edges]]
+    ends = conn.edges[edges]
+    last_change = np.maximum(s.touched[ends[:, 0]], s.touched[ends[:, 1]])
     return last_change < rejected_in
 
 

@@ -125,11 +125,11 @@ def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: i
     """All corners of each of ``vertices`` (k,), distinct. Returns (owner (c,), corners (c,)):
     owner[i] is the position in ``vertices`` whose corner corners[i] is (flat f*3+s).
     One scan over all corners: cheaper than keeping a vertex-to-corner index up to date."""
-    owner_of = np.full(n_vertices, -1, dtype=np.int64)
-    owner_of[vertices] = np.arange(len(vertices))
+    owner_of = np.full(n_vertices, -1, dtype=np.int32)  # int32: half the bytes to scan
+    owner_of[vertices] = np.arange(len(vertices), dtype=np.int32)
     per_corner = owner_of[faces.ravel()]
     corners = np.flatnonzero(per_corner >= 0)
-    return per_corner[corners], corners
+    return per_corner[corners].astype(np.int64), corners
 
 
 def connected_labels(n_nodes: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
