@@ -51,7 +51,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
     idx = np.flatnonzero(ok)
-    idx = idx.compress(~_still_rejected(s, conn, idx))
+    idx = idx.compress(~_still_rejected(s, conn, idx, a[idx], b[idx]))
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
 
@@ -93,13 +93,12 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     return position, quadrics.evaluate(q, position) / area
 
 
-def _still_rejected(s, conn, edges) -> np.ndarray:
-    """Which of ``edges`` were found invalid in an earlier pass and have not had their
+def _still_rejected(s, conn, edges, a, b) -> np.ndarray:
+    """Which of ``edges`` (ends a, b) were found invalid in an earlier pass and have not had their
     neighbourhood changed since. Either half-edge of an edge carries its mark: both are
     set together, and one can only be missing (its face gone) where an end changed."""
     rejected_in = s.rejected_pass[conn.edge_he0[edges]]
-    ends = conn.edges[edges]
-    last_change = np.maximum(s.touched[ends[:, 0]], s.touched[ends[:, 1]])
+    last_change = np.maximum(s.touched[a], s.touched[b])
     return last_change < rejected_in
 
 

@@ -16,34 +16,37 @@ class Connectivity:
     """Edges and incidences of the live faces.
 
     edges: (k, 2) int64 with edges[:, 0] < edges[:, 1]; edge_faces: (k,) number of faces
-    on each edge (1 boundary, 2 interior, more non-manifold); face_edges: (m, 3) the edge
-    of each face side (side s joins corners s and s+1); edge_face0 / edge_face1 the faces
-    on each edge (-1 where missing); half_edge_order: the half-edges
-    sorted by edge key, which the next pass reuses as a nearly sorted starting order.
+    on each edge (1 boundary, 2 interior, more non-manifold); half_edge_order: the
+    half-edges sorted by edge key, which the next pass reuses as a nearly sorted
+    starting order.
     """
 
     edges: np.ndarray
     edge_keys: np.ndarray
     edge_faces: np.ndarray
-    face_edges: np.ndarray
-    edge_face0: np.ndarray
-    edge_face1: np.ndarray
     edge_he0: np.ndarray  # a half-edge (flat corner index f*3+s) of each edge
     edge_he1: np.ndarray  # the other half-edge of an interior edge, else -1
     half_edge_order: np.ndarray
     border_vertex: np.ndarray  # (n,) bool: on an edge with a single face
+
+    @property
+    def edge_face0(self) -> np.ndarray:
+        """(k,) a face on each edge."""
+        return self.edge_he0 // 3
+
+    @property
+    def edge_face1(self) -> np.ndarray:
+        """(k,) the other face of an interior edge, else -1."""
+        return np.where(self.edge_he1 >= 0, self.edge_he1 // 3, -1)
 
 
 def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
     """Connectivity of ``faces``. order_hint: a permutation of the half-edges that is
     already nearly sorted by edge key (the previous pass's order carried over): a stable
     sort finishes it several times faster than sorting from scratch."""
-    m = len(faces)
     a = faces.ravel()
-    b = np.empty_like(faces)  # the corner each half-edge ends at; faces[:, [1, 2, 0]] is 4x slower
-    b[:, :2] = faces[:, 1:]
-    b[:, 2] = faces[:, 0]
-    b = b.ravel()
+    b = np.roll(a, -1)  # the corner each half-edge ends at: the next, or the face's first
+    b[2::3] = a[0::3]
     lo = np.minimum(a, b)
     hi = np.maximum(a, b)
     keys = lo * np.int64(n_vertices) + hi
@@ -59,19 +62,13 @@ def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
     edge_faces = np.diff(np.append(group_start, len(sorted_keys)))
     edge_keys = sorted_keys[group_start]
 
-    he_edge = np.empty(3 * m, dtype=np.int64)
-    he_edge[order] = np.cumsum(new_group) - 1
     first_he = order[group_start]
     edges = np.empty((len(group_start), 2), dtype=np.int64)
     np.take(lo, first_he, out=edges[:, 0])
     np.take(hi, first_he, out=edges[:, 1])
     # The second half-edge of a group, where there is one (interior or non-manifold edge).
-    has_second = edge_faces >= 2
-    second_he = np.full(len(group_start), -1, dtype=np.int64)
-    second_he[has_second] = order[group_start[has_second] + 1]
-
-    face1 = np.full(len(group_start), -1, dtype=np.int64)
-    face1[has_second] = second_he[has_second] // 3
+    after_first = order.take(np.minimum(group_start + 1, len(order) - 1)) if len(order) else order
+    second_he = np.where(edge_faces >= 2, after_first, -1)
     border_vertex = np.zeros(n_vertices, dtype=bool)
     border_vertex[np.compress(edge_faces == 1, edges, axis=0).ravel()] = True
 
@@ -79,9 +76,6 @@ def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
         edges=edges,
         edge_keys=edge_keys,
         edge_faces=edge_faces,
-        face_edges=he_edge.reshape(m, 3),
-        edge_face0=first_he // 3,
-        edge_face1=face1,
         edge_he0=first_he,
         edge_he1=second_he,
         half_edge_order=order,
