@@ -33,8 +33,12 @@ from .geometry import edge_parameter, face_frames, rows
 # Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
 SELECTION_ROUNDS = 4
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential
-# greedy order more closely (better Hausdorff), higher needs fewer passes.
-COST_QUANTILE = 0.25
+# greedy order more closely, higher needs fewer passes. The share narrows as the target
+# nears (half the share of faces still to go, within these bounds): early on the costs
+# are tiny and alike and order hardly matters; the last collapses are the costly ones,
+# where taking them out of order shows in distance and triangle shape.
+COST_QUANTILE_MAX = 0.15
+COST_QUANTILE_MIN = 0.05
 
 
 @dataclass
@@ -129,7 +133,8 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         if not within.any():
             return STOP_MAX_ERROR
         cand = cand.subset(within)
-    chosen = _choose(s, conn, cand, n, seed, pass_no)
+    share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
+    chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
     need = len(s.F) - target
     removed = conn.edge_faces[cand.edge[chosen]]
@@ -151,7 +156,7 @@ def _source_normals(p: Problem) -> np.ndarray:
     return normals
 
 
-def _choose(s: State, conn, cand, n, seed, pass_no) -> np.ndarray:
+def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     """Valid, mutually independent collapses for this pass.
 
     Several selection rounds: each takes the local minima among candidates whose ends lie
@@ -161,7 +166,7 @@ def _choose(s: State, conn, cand, n, seed, pass_no) -> np.ndarray:
     taken = []
     # Greedy order, approximately: only the cheapest share of candidates may go this
     # pass, so costly regions wait for later passes as they would in a sequential queue.
-    eligible = cand.cost <= np.quantile(cand.cost, COST_QUANTILE) if COST_QUANTILE < 1 else np.ones(len(cand.edge), dtype=bool)
+    eligible = cand.cost <= np.quantile(cand.cost, share)
     for _ in range(SELECTION_ROUNDS):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
