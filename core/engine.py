@@ -44,8 +44,9 @@ COST_QUANTILE_MIN = 0.05
 @dataclass
 class State:
     """The mesh while it is being simplified. Vertex rows are never compacted during
-    the run (removed vertices simply stop being referenced), so edge keys, stamps and
-    the remembered rejections stay valid from pass to pass."""
+    the run (removed vertices simply stop being referenced), so vertex stamps stay valid
+    from pass to pass; per-half-edge memory (rejections, cost-cache slots) is compressed
+    with the faces in ``_apply``."""
 
     V: np.ndarray
     Q: np.ndarray  # (n, 10) column-major: see quadrics.pair_sums

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import quadrics, topology
+from .geometry import rows
 
 # Vertex kinds: free, slides only along its seam, never moves.
 FREE, SEAM, LOCKED = 0, 1, 2
@@ -64,7 +65,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
         at = np.where(cached, at, 0)
         reuse = cached & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
         # Gather every row and overwrite the fresh minority: cheaper than masked copies.
-        position = np.take(cpos, at, axis=0)
+        position = rows(cpos, at)
         cost = ccost[at]
         fresh = np.flatnonzero(~reuse)
     else:
@@ -94,9 +95,10 @@ def _optimal(s, keep, remove, k_keep, k_remove):
 
 
 def _still_rejected(s, conn, edges, a, b) -> np.ndarray:
-    """Which of ``edges`` (ends a, b) were found invalid in an earlier pass and have not had their
-    neighbourhood changed since. Either half-edge of an edge carries its mark: both are
-    set together, and one can only be missing (its face gone) where an end changed."""
+    """Which of ``edges`` (ends a, b) were found invalid in an earlier pass and have not
+    had their neighbourhood changed since. Either half-edge of an edge carries its mark:
+    both are set together, and one can only be missing (its face gone) where an end
+    changed."""
     rejected_in = s.rejected_pass[conn.edge_he0[edges]]
     last_change = np.maximum(s.touched[a], s.touched[b])
     return last_change < rejected_in

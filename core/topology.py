@@ -96,7 +96,7 @@ def set_on_half_edges(per_half_edge: np.ndarray, conn: Connectivity, edges: np.n
 
     Per-half-edge memory outlives the pass: a face's slots keep their order when faces
     are relabelled and compacted, so an edge whose ends did not change is found again
-    under the same half-edges, renumbered by compressing with the surviving faces' half-edges, without a search."""
+    under the same half-edges (compressed with the surviving faces), without a search."""
     values = np.broadcast_to(values, edges.shape)
     per_half_edge[conn.edge_he0[edges]] = values
     second = conn.edge_he1[edges]
