@@ -58,7 +58,9 @@ def simplify_sequential(vertices, faces, *, target_faces, line_weight=1e-3, cost
     E(x*) itself (the paper and the authors' reference), "per_area" by E(x*) divided by
     the accumulated vertex areas of the two ends (what core's engine ranks by). guards:
     core.validation's rules checked per collapse (link condition, boundaries, flips,
-    zero areas, slivers); off, only non-manifold edges are skipped, as in the paper.
+    zero areas, slivers); off, only non-manifold edges are skipped, as in the paper. In
+    both modes the input's non-manifold and pinched vertices stay put, as in the engine
+    (a property of the input, not a per-collapse guard; no-op on manifold meshes).
 
     Returns (V (k, 3) float64 in input units, F (t, 3) int64, info dict with
     passes (collapses applied), seconds, stop_reason, input_faces, output_faces, rejected
