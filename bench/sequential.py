@@ -357,7 +357,10 @@ def _bench_mesh(mesh, args, run_bench, decimate) -> list:
     blender_seconds = float("nan")
     if not args.no_blender:
         _log(f"  {mesh.name}: Blender Decimate ...")
-        dec = decimate(V, F, args.ratio)
+        # Split vertices welded, as bench/run.py does (core and this reference weld them
+        # themselves; Decimate would only delete whole triangles).
+        w_v, w_f, _ = run_bench.welded(V, F)
+        dec = decimate(w_v, w_f, args.ratio)
         blender_seconds = dec.seconds
         measured("Blender Decimate", dec.vertices, dec.faces, dec.seconds, {})
 
