@@ -36,16 +36,9 @@ if str(_REPO_ROOT) not in sys.path:
 
 from core import prepare, quadrics, topology, vertex_quadrics  # noqa: E402
 from core.engine import _non_manifold_vertices  # noqa: E402  (same input locking as the engine)
-from core.geometry import cross, face_frames  # noqa: E402
+from core.geometry import face_frames  # noqa: E402
 from core.result import STOP_NO_COLLAPSE, STOP_TARGET  # noqa: E402
-from core.validation import (  # noqa: E402
-    FLAT_RING_AGREEMENT,
-    MIN_DOUBLE_AREA,
-    MIN_NORMAL_COSINE,
-    SLIVER_GUARD,
-    SLIVER_SLACK,
-    _quality,
-)
+from core.validation import corner_breaks  # noqa: E402  (the engine's own turn, area and sliver rules)
 
 COSTS = ("paper", "per_area")
 
@@ -283,8 +276,8 @@ class _Sequential:
         return not (edge_faces == 2 and len(nk) == 2 and len(nr) == 2)
 
     def _valid_geometry(self, k: int, r: int, x) -> bool:
-        """Flip, zero-area, flat-ring fold-over, source-facing and sliver guards of
-        core.validation over every corner of both ends (same formulas and constants)."""
+        """Flip, zero-area, flat-ring fold-over, source-facing and sliver guards over every
+        corner of both ends: core.validation.corner_breaks itself, for one collapse."""
         F = self.F
         moving, nb_next, nb_prev, face, dying = [], [], [], [], []
         for end, other in ((k, r), (r, k)):
@@ -298,25 +291,11 @@ class _Sequential:
                 face.append(f)
                 dying.append(b == other or c == other)
         V = self.V
-        p_a, p_b, p_c = V[moving], V[nb_next], V[nb_prev]
-        xs = np.asarray(x)[None, :]
-        ab_old, ac_old, ab_new, ac_new = p_b - p_a, p_c - p_a, p_b - xs, p_c - xs
-        n_old = cross(ab_old, ac_old)
-        n_new = cross(ab_new, ac_new)
-        len_old = np.sqrt(np.einsum("ij,ij->i", n_old, n_old))
-        len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
-        live = ~np.asarray(dying)
-        bad = (np.einsum("ij,ij->i", n_old, n_new) < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA)
-        # The flat-ring test sums over every corner, dying faces included, as the engine does.
-        ring = n_old.sum(axis=0)
-        if np.sqrt(ring @ ring) >= FLAT_RING_AGREEMENT * len_old.sum():
-            bad |= n_new @ ring < 0
-        bad |= np.einsum("ij,ij->i", n_new, self.source_normals[face]) < 0
-        bc = np.einsum("ij,ij->i", p_c - p_b, p_c - p_b)
-        q_new = _quality(len_new, ab_new, ac_new, bc)
-        q_old = _quality(len_old, ab_old, ac_old, bc)
-        bad |= (q_new < SLIVER_GUARD) & ((q_old >= SLIVER_GUARD) | (q_new < SLIVER_SLACK * q_old))
-        return not np.any(bad & live)
+        k_corners = len(moving)
+        bad = corner_breaks(V[moving], V[nb_next], V[nb_prev], np.broadcast_to(np.asarray(x), (k_corners, 3)),
+                            np.asarray(dying), np.zeros(k_corners, dtype=np.int64), 1,
+                            self.source_normals[face])
+        return not bad.any()
 
     # ------------------------------------------------------------ output
 

@@ -49,12 +49,27 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     open_fan = conn.border_vertex[moving] | s.locked[moving]
     ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
 
+    source = rows(s.source_normals, s.face_origin[faces])
+    bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
+                        dying, collapse, c, source)
+    ok &= np.bincount(collapse[bad], minlength=c) == 0
+
+    if s.wedges is not None:
+        ok &= s.wedges.valid_uv(s.F, conn, cand.edge[chosen], keep, remove, pos, s.V, faces, collapse, dying, c)
+    return ok
+
+
+def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source) -> np.ndarray:
+    """(k,) bool: the corners whose face would turn over, vanish or become a sliver.
+
+    One row per face corner around the ends of ``c`` collapses: p_a (k, 3) the moving
+    corner, p_b and p_c (k, 3) the face's next and previous corners (which stay put), x
+    (k, 3) the new position of its collapse, dying (k,) faces on the collapsed edge (never
+    bad), collapse (k,) which collapse the corner belongs to, source (k, 3) the unit normal
+    of the input face its face descends from.
+    """
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
-    # the face's own cyclic order, with a the moving corner.
-    p_a = rows(s.V, moving)
-    p_b = rows(s.V, nb_next)
-    p_c = rows(s.V, nb_prev)
-    x = rows(pos, collapse)
+    # the face's own cyclic order.
     ab_old, ac_old, ab_new, ac_new = p_b - p_a, p_c - p_a, p_b - x, p_c - x
     n_old = cross(ab_old, ac_old)
     n_new = cross(ab_new, ac_new)
@@ -71,7 +86,6 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     bad |= ~dying & flat[collapse] & (np.einsum("ij,ij->i", n_new, rows(ring, collapse)) < 0)
     # Small turns add up over passes: no face may end up facing away from the input face
     # it descends from.
-    source = rows(s.source_normals, s.face_origin[faces])
     bad |= ~dying & (np.einsum("ij,ij->i", n_new, source) < 0)
     # Never turn a face into a sliver: the output's worst triangles stay up. A face that
     # already is one may get somewhat worse (not below half its quality), or the
@@ -80,11 +94,7 @@ def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
     q_new = _quality(len_new, ab_new, ac_new, bc)
     q_old = _quality(len_old, ab_old, ac_old, bc)
     bad |= ~dying & (q_new < SLIVER_GUARD) & ((q_old >= SLIVER_GUARD) | (q_new < SLIVER_SLACK * q_old))
-    ok &= np.bincount(collapse[bad], minlength=c) == 0
-
-    if s.wedges is not None:
-        ok &= s.wedges.valid_uv(s.F, conn, cand.edge[chosen], keep, remove, pos, s.V, faces, collapse, dying, c)
-    return ok
+    return bad
 
 
 def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n) -> np.ndarray:
