@@ -358,13 +358,12 @@ def distance_to_polyline(P, V, edges):
 # ---------------------------------------------------------------- result checks
 
 
-def assert_valid_result(r, V_in, F_in, manifold=True):
-    """Structural checks every simplify result must pass.
+def assert_valid_mesh(V, F, manifold=True):
+    """Structural checks of a triangle mesh (V (n, 3), F (m, 3)) any simplifier must pass.
 
     manifold: the input was manifold, so the output must be too (each undirected edge on
     at most two faces, each directed edge at most once: consistently oriented).
     """
-    V, F = r.vertices, r.faces
     assert V.dtype == np.float64 and V.ndim == 2 and V.shape[1] == 3
     assert np.issubdtype(F.dtype, np.integer) and F.ndim == 2 and F.shape[1] == 3
     assert np.isfinite(V).all()
@@ -379,6 +378,12 @@ def assert_valid_result(r, V_in, F_in, manifold=True):
         assert count.max() <= 2, "non-manifold edge created"
         _, dcount = np.unique(directed_edges(F), axis=0, return_counts=True)
         assert dcount.max() == 1, "inconsistent orientation (a directed edge used twice)"
+
+
+def assert_valid_result(r, V_in, F_in, manifold=True):
+    """assert_valid_mesh on a simplify result, plus its origins and stats."""
+    V, F = r.vertices, r.faces
+    assert_valid_mesh(V, F, manifold)
     fo, vo = np.asarray(r.face_origin), np.asarray(r.vertex_origin)
     assert fo.shape == (len(F),) and vo.shape == (len(V),)
     if len(F):
