@@ -220,3 +220,51 @@ def test_weighted_half_keeps_more_vertices(control):
     assert n_left > 2 * n_right, (n_left, n_right)  # measured 75 / 27 and 95 / 5
     plain = core.simplify(V, F, ratio=0.1)
     assert abs(np.count_nonzero(plain.vertices[:, 0] < 0.5) - np.count_nonzero(plain.vertices[:, 0] > 0.5)) < 10
+
+
+@settings(max_examples=60, **SETTINGS)
+@given(st.lists(st.floats(0.0, 1e3), min_size=1, max_size=200),
+       st.lists(st.floats(0.0, 1.0), min_size=1, max_size=3))
+def test_cost_quantiles_are_the_lower_quantiles(costs, shares):
+    from core.engine import _cost_quantiles
+    cost = np.array(costs)
+    ordered = np.sort(cost)
+    for s, got in zip(shares, _cost_quantiles(cost, shares)):
+        assert got == ordered[int(s * (len(cost) - 1))]
+        assert got <= np.quantile(cost, s) + 1e-9 * (1 + abs(got))  # never above NumPy's
+
+
+def test_later_selection_rounds_take_only_the_cheap_part_of_the_share(monkeypatch):
+    """Rounds after a pass's first take only collapses within the cheapest
+    LATER_ROUND_SHARE of the pass's share (or below ORDER_FREE_COST): their neighbours
+    were blocked, not beaten, so anything costlier would jump the greedy order."""
+    from core import engine, selection
+    V, F = mg.grid(40, 40, size=(1.0, 1.0), jitter=0.2, seed=3, height=mg.bumps(0.15, 2.0))
+    target = _target(F, 0.1)
+    rounds = []  # per selection round: (round in its pass, later-round limit, pass limit, costs taken)
+    choose, independent_set = engine._choose, selection.independent_set
+
+    def spy_choose(s, conn, cand, n, seed, pass_no, share):
+        pass_limit, later_limit = engine._cost_quantiles(cand.cost, (share, share * engine.LATER_ROUND_SHARE))
+        rounds.append((0, max(later_limit, engine.ORDER_FREE_COST), pass_limit, None))
+        return choose(s, conn, cand, n, seed, pass_no, share)
+
+    def spy_independent_set(cand, conn, n, seed, eligible=None):
+        chosen = independent_set(cand, conn, n, seed, eligible)
+        round_no, later_limit, pass_limit, _ = rounds[-1]
+        rounds.append((round_no + 1, later_limit, pass_limit, cand.cost[chosen]))
+        return chosen
+
+    monkeypatch.setattr(engine, "_choose", spy_choose)
+    monkeypatch.setattr(selection, "independent_set", spy_independent_set)
+    r = core.simplify(V, F, target_faces=target)
+    assert abs(len(r.faces) - target) <= 1
+    taken = [e for e in rounds if e[0] > 0 and len(e[3])]
+    later = [e for e in taken if e[0] > 1]
+    assert later, "no later round took anything: the test mesh does not exercise the limit"
+    for _, later_limit, _, costs in later:
+        assert costs.max() <= later_limit
+    # First rounds do go beyond that limit (it is a real restriction), never beyond the share.
+    assert any(costs.max() > later_limit for round_no, later_limit, _, costs in taken if round_no == 1)
+    for _, _, pass_limit, costs in taken:
+        assert costs.max() <= pass_limit
