@@ -22,3 +22,19 @@ def subdivide_midpoint(vertices, faces):
     new_f = np.concatenate([np.stack([f0, a, c], 1), np.stack([a, f1, b], 1),
                             np.stack([c, b, f2], 1), np.stack([a, b, c], 1)])
     return np.concatenate([v, mid]), new_f
+
+
+def arm_tube(around: int = 48, rings: int = 64):
+    """The capped tube of tests/test_addon_skinned.py (an arm 2.6 long along z, radius
+    about 0.2 with a narrowing at the elbow, z = 1), as triangles: each quad split along
+    its first diagonal, each cap a fan. Returns (V (around*rings, 3) f64, F (k, 3) i64)."""
+    z = np.linspace(0.02, 2.58, rings)
+    radius = 0.22 + 0.05 * np.sin(z * np.pi / 1.3) ** 2 - 0.04 * np.exp(-((z - 1.0) / 0.12) ** 2)
+    t = np.linspace(0, 2 * np.pi, around, endpoint=False)
+    V = np.stack([np.outer(radius, np.cos(t)), np.outer(radius, np.sin(t)),
+                  np.repeat(z[:, None], around, 1)], -1).reshape(-1, 3)
+    idx = np.arange(rings * around).reshape(rings, around)
+    q = np.stack([idx[:-1], np.roll(idx[:-1], -1, 1), np.roll(idx[1:], -1, 1), idx[1:]], -1).reshape(-1, 4)
+    bottom, top = idx[0][::-1], idx[-1]
+    caps = [np.stack([np.full(around - 2, c[0]), c[1:-1], c[2:]], 1) for c in (bottom, top)]
+    return V, np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]], *caps]).astype(np.int64)
