@@ -215,7 +215,7 @@ def test_posed_lod_beats_decimate(res, ratio):
         assert ours_h < (dec_h if ratio < 0.1 else 1.2 * dec_h)
         # On average as close at 10 %. At 3 % (184 triangles) the greedy cheapest-first
         # order itself is a little further on average on this tube: at rest, the paper's
-        # one-at-a-time order (bench/sequential.py) measured a mean 12 % above the engine
+        # one-at-a-time order measured a mean 12 % above the engine (bench/arm_order.py)
         # before its later selection rounds were limited, the limited engine 3 % above it;
         # posed, 1.08x Decimate's, with the Hausdorff distance still 0.83x.
         assert ours_mean < (1.05 if ratio >= 0.1 else 1.1) * dec_mean
