@@ -143,7 +143,11 @@ def order_keys(cost: np.ndarray, edges: np.ndarray, seed: int) -> np.ndarray:
     key distinct - which the local-minimum selection relies on.
     """
     high = np.minimum(cost, np.finfo(np.float32).max).astype(np.float32).view(np.int32).astype(np.int64)
-    low = (edges.astype(np.uint64) * np.uint64(0x9E3779B1) + np.uint64(seed)) & np.uint64(0xFFFFFFFF)
+    # The seed is mixed in before the odd multiplier (a bijection of 32-bit values), so
+    # each seed orders tied edges differently; added after it, it would only rotate them.
+    mask = np.uint64(0xFFFFFFFF)
+    mixed_seed = (np.uint64(int(seed) & 0xFFFFFFFF) * np.uint64(0x85EBCA6B)) & mask
+    low = ((edges.astype(np.uint64) ^ mixed_seed) * np.uint64(0x9E3779B1)) & mask
     return (high << np.int64(32)) | low.astype(np.int64)
 
 
