@@ -5,6 +5,8 @@ The test builds its own character: a 3-bone armature and a capped tube "arm" (48
 vertices, with a narrowing at the elbow), parented with Automatic Weights. One Blender
 child runs everything (module fixture); the tests check its RESULT.
 """
+import statistics
+
 import pytest
 
 from bpy_harness import run_in_blender
@@ -100,44 +102,55 @@ def pose(on):
 
 src_tris = len(posed(ob)[1])
 R["source_triangles"] = src_tris
+# The tube is symmetric, so many collapses tie exactly and the seed decides between them:
+# each asserted case runs with three seeds (the add-on always passes seed 0).
+core_module = importlib.import_module(EXT + ".addon._core").core
+simplify_chain = core_module.simplify_chain
+SEED = [0]
+core_module.simplify_chain = lambda *args, **kwargs: simplify_chain(*args, seed=SEED[0], **kwargs)
 runs = {}
 for source in ('ARMATURE', 'VERTEX_GROUP', 'NONE'):
     for ratio in (0.1, 0.03):
-        pose(False)
-        select_only(ob)
-        bpy.ops.object.line_quadric_lod(ratio=ratio, levels=1, importance_source=source,
-                                        importance_group="LOD_Importance", measure_deviation=False)
-        L = bpy.data.objects["Arm_LOD1"]
-        tris = len(L.data.polygons)
-        dup = bpy.data.objects.get("Arm_Decimate")
-        if dup is not None:
-            d = dup.data; bpy.data.objects.remove(dup); bpy.data.meshes.remove(d)
-        dup = ob.copy(); dup.data = ob.data.copy(); dup.name = "Arm_Decimate"
-        scene.collection.objects.link(dup)
-        dec = dup.modifiers.new("Decimate", 'DECIMATE')
-        dec.ratio = tris / src_tris
-        dup.modifiers.move(len(dup.modifiers) - 1, 0)  # decimate the rest shape, then skin
-        info = {"triangles": tris}
-        if source == 'ARMATURE' and ratio == 0.1:
-            lw = weights(L, bones)
-            info["modifiers"] = [(m.type, m.object.name if m.object else None) for m in L.modifiers]
-            info["parent"] = L.parent.name if L.parent else None
-            info["groups"] = L.vertex_groups.keys()
-            info["weight_range"] = [float(lw.min()), float(lw.max())]
-            info["weight_sum_range"] = [float(lw.sum(1).min()), float(lw.sum(1).max())]
-            info["source_sum_range"] = [float(skin.sum(1).min()), float(skin.sum(1).max())]
-            info["bones_used"] = int((lw.max(0) > 0.5).sum())
-        pose(True)
-        Ps, Fs = posed(ob)
-        Pl, Fl = posed(L)
-        Pd, Fd = posed(dup)
-        ours = measure.surface_deviation(Ps, Fs, Pl, Fl, n_samples=50_000)
-        theirs = measure.surface_deviation(Ps, Fs, Pd, Fd, n_samples=50_000)
-        info.update(decimate_triangles=len(Fd),
-                    ours=[ours["hausdorff_percent"], ours["mean_percent"]],
-                    decimate=[theirs["hausdorff_percent"], theirs["mean_percent"]],
-                    moved=float(np.abs(Ps - V).max()))
+        info = {"triangles": [], "ours": []}
+        for seed in ((0, 1, 2) if source != 'NONE' else (0,)):
+            SEED[0] = seed
+            pose(False)
+            select_only(ob)
+            bpy.ops.object.line_quadric_lod(ratio=ratio, levels=1, importance_source=source,
+                                            importance_group="LOD_Importance", measure_deviation=False)
+            L = bpy.data.objects["Arm_LOD1"]
+            tris = len(L.data.polygons)
+            info["triangles"].append(tris)
+            if seed == 0:
+                dup = bpy.data.objects.get("Arm_Decimate")
+                if dup is not None:
+                    d = dup.data; bpy.data.objects.remove(dup); bpy.data.meshes.remove(d)
+                dup = ob.copy(); dup.data = ob.data.copy(); dup.name = "Arm_Decimate"
+                scene.collection.objects.link(dup)
+                dec = dup.modifiers.new("Decimate", 'DECIMATE')
+                dec.ratio = tris / src_tris
+                dup.modifiers.move(len(dup.modifiers) - 1, 0)  # decimate the rest shape, then skin
+            if source == 'ARMATURE' and ratio == 0.1 and seed == 0:
+                lw = weights(L, bones)
+                info["modifiers"] = [(m.type, m.object.name if m.object else None) for m in L.modifiers]
+                info["parent"] = L.parent.name if L.parent else None
+                info["groups"] = L.vertex_groups.keys()
+                info["weight_range"] = [float(lw.min()), float(lw.max())]
+                info["weight_sum_range"] = [float(lw.sum(1).min()), float(lw.sum(1).max())]
+                info["source_sum_range"] = [float(skin.sum(1).min()), float(skin.sum(1).max())]
+                info["bones_used"] = int((lw.max(0) > 0.5).sum())
+            pose(True)
+            Ps, Fs = posed(ob)
+            Pl, Fl = posed(L)
+            ours = measure.surface_deviation(Ps, Fs, Pl, Fl, n_samples=50_000)
+            info["ours"].append([ours["hausdorff_percent"], ours["mean_percent"]])
+            if seed == 0:
+                Pd, Fd = posed(dup)
+                theirs = measure.surface_deviation(Ps, Fs, Pd, Fd, n_samples=50_000)
+                info.update(decimate_triangles=len(Fd), decimate=[theirs["hausdorff_percent"], theirs["mean_percent"]],
+                            moved=float(np.abs(Ps - V).max()))
         runs[f"{source}_{ratio}"] = info
+core_module.simplify_chain = simplify_chain
 pose(False)
 R["runs"] = runs
 
@@ -202,23 +215,23 @@ def test_posed_lod_beats_decimate(res, ratio):
     for source in ("ARMATURE", "VERTEX_GROUP"):
         info = res["runs"][f"{source}_{ratio}"]
         assert info["moved"] > 0.5  # the pose really bends the arm
-        assert abs(info["triangles"] - round(ratio * res["source_triangles"])) <= 1
-        assert abs(info["decimate_triangles"] - info["triangles"]) <= 0.02 * info["triangles"]
-        ours_h, ours_mean = info["ours"]
+        for tris in info["triangles"]:
+            assert abs(tris - round(ratio * res["source_triangles"])) <= 1
+        assert abs(info["decimate_triangles"] - info["triangles"][0]) <= 0.02 * info["triangles"][0]
+        hausdorff = [h for h, _ in info["ours"]]
+        mean = [m for _, m in info["ours"]]
         dec_h, dec_mean = info["decimate"]
-        assert ours_h < 2.0 if ratio == 0.1 else ours_h < 3.0  # bounded, % of the bbox diagonal
-        # At 3 % the joints decide the worst spot, and protecting them wins clearly
-        # (measured 1.4-1.7 % against Decimate's 2.7 %). At 10 % the worst spot is a
-        # single vertex somewhere on the arm and moves with any change to the collapse
-        # order (measured 0.83, 1.10 and 1.17 % for three engine versions against
-        # Decimate's 1.05 %): there, only "as close, within that scatter" holds.
-        assert ours_h < (dec_h if ratio < 0.1 else 1.2 * dec_h)
+        # The median of the three seeds: on this symmetric tube the tie-breaking seed moves
+        # a single LOD's distances a lot. Over eight seeds, the posed mean at 3 % ranged
+        # 0.98-1.12x Decimate's and the Hausdorff distance at 10 % 0.68-1.33x.
+        assert max(hausdorff) < (2.0 if ratio == 0.1 else 3.0)  # bounded, % of the bbox diagonal
+        # At 3 % the joints decide the worst spot, and protecting them wins clearly. At 10 %
+        # the worst spot is a single vertex somewhere on the arm: only "as close, within
+        # that scatter" holds.
+        assert statistics.median(hausdorff) < (dec_h if ratio < 0.1 else 1.2 * dec_h)
         # On average as close at 10 %. At 3 % (184 triangles) the greedy cheapest-first
-        # order itself is a little further on average on this tube: at rest, the paper's
-        # one-at-a-time order measured a mean 12 % above the engine (bench/arm_order.py)
-        # before its later selection rounds were limited, the limited engine 3 % above it;
-        # posed, 1.08x Decimate's, with the Hausdorff distance still 0.83x.
-        assert ours_mean < (1.05 if ratio >= 0.1 else 1.1) * dec_mean
+        # order itself is a little further on average on this tube (bench/arm_order.py).
+        assert statistics.median(mean) < (1.05 if ratio >= 0.1 else 1.1) * dec_mean
 
 
 def test_posed_source_is_read_at_rest(res):

@@ -222,19 +222,25 @@ def test_tiny_meshes():
 def test_result_does_not_depend_on_units_or_placement(scale, offset):
     # Not bit-identical (a sphere is full of exact cost ties that round-off breaks either
     # way), but just as good: far from the origin or at odd scales quadrics must not lose
-    # their precision.
-    V, F, _ = mg.uv_sphere(16, 10)
-    base = core.simplify(V, F, ratio=0.2)
-    moved = core.simplify(V * scale + offset, F, ratio=0.2)
-    mg.assert_valid_result(moved, V, F)
-    assert len(moved.faces) == len(base.faces)
-    u = (moved.vertices - offset) / scale
-    q_base = core.quality_summary(base.vertices, base.faces)["mean_quality"]
-    q_moved = core.quality_summary(u, moved.faces)["mean_quality"]
-    assert abs(q_moved - q_base) < 0.03
-    dev_base = np.abs(np.linalg.norm(base.vertices, axis=1) - 1).max()
-    dev_moved = np.abs(np.linalg.norm(u, axis=1) - 1).max()
-    assert dev_moved < 1.5 * dev_base
+    # their precision. One sphere's mean quality moves by up to 0.046 with the tie-breaks
+    # alone (measured over 7 spheres and 3 ratios), so the quality is compared on average
+    # over four spheres; the distance to the true sphere, sphere by sphere.
+    quality_change = []
+    for n_lon, n_lat in [(16, 10), (18, 11), (20, 12), (14, 9)]:
+        V, F, _ = mg.uv_sphere(n_lon, n_lat)
+        base = core.simplify(V, F, ratio=0.2)
+        moved = core.simplify(V * scale + offset, F, ratio=0.2)
+        mg.assert_valid_result(moved, V, F)
+        assert len(moved.faces) == len(base.faces)
+        u = (moved.vertices - offset) / scale
+        q_base = core.quality_summary(base.vertices, base.faces)["mean_quality"]
+        q_moved = core.quality_summary(u, moved.faces)["mean_quality"]
+        quality_change.append(abs(q_moved - q_base))
+        dev_base = np.abs(np.linalg.norm(base.vertices, axis=1) - 1).max()
+        dev_moved = np.abs(np.linalg.norm(u, axis=1) - 1).max()
+        assert dev_moved < 1.5 * dev_base
+    assert max(quality_change) < 0.06
+    assert np.mean(quality_change) < 0.025
 
 
 def test_max_error_alone_stops_where_the_error_says():
