@@ -61,8 +61,8 @@ ORDER_FREE_COST = 1e-9
 class State:
     """The mesh while it is being simplified. Vertex rows are never compacted during
     the run (removed vertices simply stop being referenced), so vertex stamps stay valid
-    from pass to pass; per-half-edge memory (rejections, cost-cache slots) is compressed
-    with the faces in ``_apply``."""
+    from pass to pass; per-edge memory (rejections, cost-cache slots) follows the edges
+    through ``topology.after_collapses`` in ``_apply``."""
 
     V: np.ndarray
     Q: np.ndarray  # (n, 10) column-major: see quadrics.pair_sums
@@ -73,11 +73,11 @@ class State:
     X: np.ndarray  # stacked vertex attributes (n, K)
     wedges: object
     touched: np.ndarray  # pass in which each vertex's neighbourhood last changed
-    rejected_pass: np.ndarray  # (3m,) per half-edge: pass of its edge's last rejection, 0 never
+    conn: object  # connectivity of F
+    rejected_pass: np.ndarray  # (k,) per edge: pass of its last rejection, 0 never
     area_scale: float = 1.0
-    half_edge_order: object = None  # carried to the next pass's connectivity sort
     cost_cache: object = None  # (keep, position, cost) of the last pass's candidates
-    cost_slot: object = None  # (3m,) per half-edge: its edge's row in cost_cache, or -1
+    cost_slot: object = None  # (k,) per edge: its row in cost_cache, or -1
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
     kind: object = None  # last pass's vertex kinds
     moved: object = None  # (n,) vertices that were ever given a new position
@@ -102,8 +102,8 @@ def run(p: Problem) -> list:
     s = State(
         V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=locked,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
-        rejected_pass=np.zeros(3 * len(F), dtype=np.int64),
-        half_edge_order=conn.half_edge_order,
+        conn=conn,
+        rejected_pass=np.zeros(len(conn.edges), dtype=np.int64),
         changed=np.zeros(n, dtype=bool),
         moved=np.zeros(n, dtype=bool),
         source_normals=_source_normals(p),
@@ -137,7 +137,7 @@ def run(p: Problem) -> list:
 def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_seams):
     """One pass; returns a stop reason when nothing more can be collapsed, else None."""
     n = len(s.V)
-    conn = topology.build(s.F, n, s.half_edge_order)
+    conn = s.conn
     kind = _classify(s, conn, n, preserve_seams)
     if s.kind is not None:
         s.changed |= kind != s.kind
@@ -249,7 +249,7 @@ def _remember_rejections(s: State, conn, cand, rejected, pass_no):
     does not block its neighbourhood pass after pass."""
     if len(rejected) == 0:
         return
-    topology.set_on_half_edges(s.rejected_pass, conn, cand.edge[rejected], pass_no)
+    s.rejected_pass[cand.edge[rejected]] = pass_no
 
 
 def _apply(s: State, conn, cand, chosen, pass_no):
@@ -271,10 +271,14 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
     s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
     s.face_origin = s.face_origin.compress(alive)
-    alive_he = np.repeat(alive, 3)
-    s.half_edge_order = topology.carry_order(conn.half_edge_order, alive_he)
-    s.rejected_pass = s.rejected_pass.compress(alive_he)
-    s.cost_slot = s.cost_slot.compress(alive_he)
+    s.conn, kept_edges = topology.after_collapses(conn, alive, remap, remove) or (None, None)
+    if s.conn is None:  # only if the collapses were not independent: start afresh
+        s.conn = topology.build(s.F, len(s.V))
+        s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
+        s.cost_cache = None
+    else:
+        s.rejected_pass = s.rejected_pass.compress(kept_edges)
+        s.cost_slot = s.cost_slot.compress(kept_edges)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     is_keep = np.zeros(len(s.V), dtype=bool)

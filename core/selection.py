@@ -52,7 +52,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
     idx = np.flatnonzero(ok)
-    idx = idx.compress(~_still_rejected(s, conn, idx, a[idx], b[idx]))
+    idx = idx.compress(~_still_rejected(s, idx, a[idx], b[idx]))
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
 
@@ -60,7 +60,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     # or kind): most of the mesh is untouched by any one pass.
     if s.cost_cache is not None:
         ckeep, cpos, ccost = s.cost_cache
-        at = s.cost_slot[conn.edge_he0[idx]]
+        at = s.cost_slot[idx]
         cached = at >= 0
         at = np.where(cached, at, 0)
         reuse = cached & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
@@ -75,8 +75,8 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     if len(fresh):
         position[fresh], cost[fresh] = _optimal(s, keep[fresh], remove[fresh], k_keep[fresh], k_remove[fresh])
     s.cost_cache = (keep, position, cost)
-    s.cost_slot = np.full(3 * len(s.F), -1, dtype=np.int64)
-    topology.set_on_half_edges(s.cost_slot, conn, idx, np.arange(len(idx)))
+    s.cost_slot = np.full(len(conn.edges), -1, dtype=np.int64)
+    s.cost_slot[idx] = np.arange(len(idx))
     return Candidates(idx, keep, remove, position, cost)
 
 
@@ -94,14 +94,11 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     return position, quadrics.evaluate(q, position) / area
 
 
-def _still_rejected(s, conn, edges, a, b) -> np.ndarray:
+def _still_rejected(s, edges, a, b) -> np.ndarray:
     """Which of ``edges`` (ends a, b) were found invalid in an earlier pass and have not
-    had their neighbourhood changed since. Either half-edge of an edge carries its mark:
-    both are set together, and one can only be missing (its face gone) where an end
-    changed."""
-    rejected_in = s.rejected_pass[conn.edge_he0[edges]]
+    had their neighbourhood changed since."""
     last_change = np.maximum(s.touched[a], s.touched[b])
-    return last_change < rejected_in
+    return last_change < s.rejected_pass[edges]
 
 
 def independent_set(cand: Candidates, conn, n, seed, eligible=None) -> np.ndarray:

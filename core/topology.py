@@ -1,8 +1,10 @@
-"""Connectivity of a triangle soup, rebuilt in bulk once per pass.
+"""Connectivity of a triangle soup: built once by sorting, then carried through each
+pass of collapses.
 
 Edges are found by sorting half-edge keys (lo * n + hi) rather than by walking a
-half-edge structure: sorting is one vectorised call, and a pass changes too much of the
-mesh for incremental bookkeeping in Python to pay off.
+half-edge structure: sorting is one vectorised call. After a pass the connectivity is
+updated, not rebuilt: a collapse only relabels the removed vertex's edges and merges the
+two edges of each face that dies, and those faces say exactly which edges they are.
 """
 from __future__ import annotations
 
@@ -15,19 +17,22 @@ import numpy as np
 class Connectivity:
     """Edges and incidences of the live faces.
 
-    edges: (k, 2) int64 with edges[:, 0] < edges[:, 1]; edge_faces: (k,) number of faces
-    on each edge (1 boundary, 2 interior, more non-manifold); half_edge_order: the
-    half-edges sorted by edge key, which the next pass reuses as a nearly sorted
-    starting order.
+    edges: (k, 2) int64 with edges[:, 0] < edges[:, 1] (column-major: the passes read
+    the two ends as separate columns); edge_faces: (k,) number of faces on each edge
+    (1 boundary, 2 interior, more non-manifold); edge_he0/edge_he1: half-edges (flat
+    corner index f*3+s) on each edge, the second -1 on a boundary (a non-manifold edge
+    lists two of its half-edges); he_edge: (3m,) the edge of every half-edge.
+    edge_keys: the sorted keys lo * n + hi, from ``build`` only (None once updated:
+    edges then keep their slots, not their key order).
     """
 
     edges: np.ndarray
-    edge_keys: np.ndarray
     edge_faces: np.ndarray
-    edge_he0: np.ndarray  # a half-edge (flat corner index f*3+s) of each edge
-    edge_he1: np.ndarray  # the other half-edge of an interior edge, else -1
-    half_edge_order: np.ndarray
+    edge_he0: np.ndarray
+    edge_he1: np.ndarray
+    he_edge: np.ndarray
     border_vertex: np.ndarray  # (n,) bool: on an edge with a single face
+    edge_keys: np.ndarray = None
 
     @property
     def edge_face0(self) -> np.ndarray:
@@ -40,68 +45,130 @@ class Connectivity:
         return np.where(self.edge_he1 >= 0, self.edge_he1 // 3, -1)
 
 
-def build(faces: np.ndarray, n_vertices: int, order_hint=None) -> Connectivity:
-    """Connectivity of ``faces``. order_hint: a permutation of the half-edges that is
-    already nearly sorted by edge key (the previous pass's order carried over): a stable
-    sort finishes it several times faster than sorting from scratch."""
+def build(faces: np.ndarray, n_vertices: int) -> Connectivity:
+    """Connectivity of ``faces`` (m, 3), from scratch."""
     a = faces.ravel()
     b = np.roll(a, -1)  # the corner each half-edge ends at: the next, or the face's first
     b[2::3] = a[0::3]
     lo = np.minimum(a, b)
     hi = np.maximum(a, b)
     keys = lo * np.int64(n_vertices) + hi
-    if order_hint is None:
-        order = np.argsort(keys)
-    else:
-        order = order_hint[np.argsort(keys[order_hint], kind="stable")]
+    order = np.argsort(keys)
     sorted_keys = keys[order]
     new_group = np.empty(len(sorted_keys), dtype=bool)
     new_group[:1] = True
     np.not_equal(sorted_keys[1:], sorted_keys[:-1], out=new_group[1:])
     group_start = np.flatnonzero(new_group)
     edge_faces = np.diff(np.append(group_start, len(sorted_keys)))
-    edge_keys = sorted_keys[group_start]
+    he_edge = np.empty(len(order), dtype=np.int64)
+    he_edge[order] = np.cumsum(new_group) - 1
 
     first_he = order[group_start]
-    edges = np.empty((len(group_start), 2), dtype=np.int64)
-    np.take(lo, first_he, out=edges[:, 0])
-    np.take(hi, first_he, out=edges[:, 1])
     # The second half-edge of a group, where there is one (interior or non-manifold edge).
     after_first = order.take(np.minimum(group_start + 1, len(order) - 1)) if len(order) else order
     second_he = np.where(edge_faces >= 2, after_first, -1)
+    return _connectivity(lo.take(first_he), hi.take(first_he), edge_faces, first_he, second_he, he_edge,
+                         n_vertices, sorted_keys[group_start])
+
+
+def after_collapses(conn: Connectivity, alive: np.ndarray, remap: np.ndarray, removed: np.ndarray) -> tuple:
+    """The connectivity after a pass of independent collapses, and which old edges live on.
+
+    alive: (m,) bool, the faces that survive (the others died with a collapsed edge);
+    remap: (n,) vertex relabelling (each removed vertex to its kept one, others to
+    themselves); removed: the removed vertices. Returns (connectivity of the surviving
+    faces, numbered as they will be after compaction; (k,) bool over the old edges, those
+    that keep a slot), or None if the collapses were not independent. A dying face (keep,
+    remove, x) takes the collapsed edge with it and merges (remove, x) into (keep, x),
+    which keeps its slot; every other edge at most has an end relabelled. Per-edge memory
+    compressed by the returned mask follows the edges, merged ones included.
+    """
+    n = len(remap)
+    a, b = remap[conn.edges[:, 0]], remap[conn.edges[:, 1]]
+    collapsed = a == b
+    merging = _merging_edges(conn, alive, collapsed, removed, n)
+    if merging is None:
+        return None
+    gone, kept = merging
+    alive_he = np.repeat(alive, 3)
+    he0, he1, edge_faces = _merge(conn, gone, kept, alive_he)
+
+    survive = ~collapsed
+    survive[gone] = False
+    survive &= edge_faces > 0  # a lone triangle's last edges leave with it
+    new_edge = np.cumsum(survive) - 1
+    new_edge[gone] = new_edge[kept]  # a gone edge's half-edges now belong to its merge
+    new_he = np.cumsum(alive_he) - 1
+    he0 = new_he[he0.compress(survive)]
+    he1 = he1.compress(survive)
+    he1 = np.where(he1 >= 0, new_he[he1], -1)
+    he_edge = new_edge[conn.he_edge.compress(alive_he)]
+    # A non-manifold edge lists two of its half-edges only: where one merged, take them
+    # from the full per-half-edge map (rare: such vertices are locked).
+    was_non_manifold = (conn.edge_faces[kept] > 2) | (conn.edge_faces[gone] > 2)
+    if was_non_manifold.any():
+        _relist(new_edge[kept[was_non_manifold]], he_edge, he0, he1)
+    lo, hi = np.minimum(a, b).compress(survive), np.maximum(a, b).compress(survive)
+    return _connectivity(lo, hi, edge_faces.compress(survive), he0, he1, he_edge, n), survive
+
+
+def _merging_edges(conn, alive, collapsed, removed, n):
+    """(gone, kept): for every dying face, its edge to the removed vertex and its edge to
+    the kept one, which the first merges into; None unless every dying face lies on
+    exactly one collapsed edge and no edge takes two merges."""
+    is_removed = np.zeros(n, dtype=bool)
+    is_removed[removed] = True
+    dying = np.flatnonzero(~alive)
+    edge_of = conn.he_edge[(3 * dying[:, None] + np.arange(3)).ravel()].reshape(-1, 3)
+    ends = conn.edges[edge_of]
+    to_removed = is_removed[ends[..., 0]] | is_removed[ends[..., 1]]
+    gone_side = to_removed & ~collapsed[edge_of]
+    kept_side = ~to_removed
+    gone, kept = edge_of[gone_side], edge_of[kept_side]
+    if not (np.all(gone_side.sum(axis=1) == 1) and np.all(kept_side.sum(axis=1) == 1)
+            and len(np.unique(kept)) == len(kept)):
+        return None
+    return gone, kept
+
+
+def _merge(conn, gone, kept, alive_he):
+    """(he0, he1, edge_faces) over the old edges with each kept edge listing the live
+    half-edges of itself and of the edge merging into it (one each, on manifold edges)."""
+    def live(h):
+        return np.where((h >= 0) & alive_he[h], h, -1)
+
+    he0, he1 = conn.edge_he0.copy(), conn.edge_he1.copy()
+    own = live(he0[kept])
+    own = np.where(own >= 0, own, live(he1[kept]))
+    joining = live(he0[gone])
+    joining = np.where(joining >= 0, joining, live(he1[gone]))
+    he0[kept] = np.where(own >= 0, own, joining)
+    he1[kept] = np.where(own >= 0, joining, -1)
+    edge_faces = conn.edge_faces.copy()
+    edge_faces[kept] += edge_faces[gone] - 2  # each loses its dying face
+    return he0, he1, edge_faces
+
+
+def _relist(edges, he_edge, he0, he1) -> None:
+    """Set he0/he1 of ``edges`` to their first two half-edges in ``he_edge``, in place."""
+    half_edges = np.flatnonzero(np.isin(he_edge, edges))
+    half_edges = half_edges[np.argsort(he_edge[half_edges], kind="stable")]
+    owner = he_edge[half_edges]
+    first = np.flatnonzero(np.concatenate([[True], owner[1:] != owner[:-1]]))
+    he0[owner[first]] = half_edges[first]
+    has_second = (first + 1 < len(owner)) & (owner[np.minimum(first + 1, len(owner) - 1)] == owner[first])
+    he1[owner[first]] = np.where(has_second, half_edges[np.minimum(first + 1, len(owner) - 1)], -1)
+
+
+def _connectivity(lo, hi, edge_faces, he0, he1, he_edge, n_vertices, edge_keys=None) -> Connectivity:
+    ends = np.empty((2, len(lo)), dtype=np.int64)
+    ends[0], ends[1] = lo, hi
+    border = edge_faces == 1
     border_vertex = np.zeros(n_vertices, dtype=bool)
-    border_vertex[np.compress(edge_faces == 1, edges, axis=0).ravel()] = True
-
-    return Connectivity(
-        edges=edges,
-        edge_keys=edge_keys,
-        edge_faces=edge_faces,
-        edge_he0=first_he,
-        edge_he1=second_he,
-        half_edge_order=order,
-        border_vertex=border_vertex,
-    )
-
-
-def carry_order(order: np.ndarray, alive_half_edges: np.ndarray) -> np.ndarray:
-    """The half-edge order of the previous pass, renumbered after dead faces are dropped
-    (alive_half_edges: (3m,) bool, each face's flag repeated for its three corners)."""
-    new_index = np.cumsum(alive_half_edges) - 1
-    kept = order.compress(alive_half_edges[order])
-    return new_index[kept]
-
-
-def set_on_half_edges(per_half_edge: np.ndarray, conn: Connectivity, edges: np.ndarray, values) -> None:
-    """per_half_edge[h] = value for both half-edges h of each of ``edges`` (k,).
-
-    Per-half-edge memory outlives the pass: a face's slots keep their order when faces
-    are relabelled and compacted, so an edge whose ends did not change is found again
-    under the same half-edges (compressed with the surviving faces), without a search."""
-    values = np.broadcast_to(values, edges.shape)
-    per_half_edge[conn.edge_he0[edges]] = values
-    second = conn.edge_he1[edges]
-    has_second = second >= 0
-    per_half_edge[second[has_second]] = values[has_second]
+    border_vertex[lo[border]] = True
+    border_vertex[hi[border]] = True
+    return Connectivity(edges=ends.T, edge_faces=edge_faces, edge_he0=he0, edge_he1=he1, he_edge=he_edge,
+                        border_vertex=border_vertex, edge_keys=edge_keys)
 
 
 def any_corner(flags: np.ndarray, faces: np.ndarray) -> np.ndarray:
