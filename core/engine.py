@@ -185,11 +185,12 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     # pass, so costly regions wait for later passes as they would in a sequential queue.
     pass_limit, later_limit = _cost_quantiles(cand.cost, (share, share * LATER_ROUND_SHARE))
     eligible = cand.cost <= pass_limit
+    window = None  # later rounds look only at the faces around what is still eligible
     for round_no in range(SELECTION_ROUNDS):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
             break
-        ok = validation.valid_collapses(s, conn, cand, chosen)
+        ok = validation.valid_collapses(s, conn, cand, chosen, window)
         _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
         eligible[chosen] = False
         chosen = chosen[ok]
@@ -198,11 +199,22 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
             eligible &= cand.cost <= max(later_limit, ORDER_FREE_COST)
         if len(chosen) == 0:
             continue
-        blocked = selection.closed_rings(conn, s.F, np.concatenate([cand.keep[chosen], cand.remove[chosen]]), n)
+        faces = s.F if window is None else window[1]
+        blocked = selection.closed_rings(conn, faces, np.concatenate([cand.keep[chosen], cand.remove[chosen]]), n)
         eligible &= ~(blocked[cand.keep] | blocked[cand.remove])
         if not eligible.any():
             break
+        if window is None:
+            window = _faces_around(s.F, np.concatenate([cand.keep[eligible], cand.remove[eligible]]), n)
     return np.concatenate(taken) if taken else np.zeros(0, dtype=np.int64)
+
+
+def _faces_around(F, vertices, n) -> tuple:
+    """(face ids, their rows of F): the faces with a corner among ``vertices``."""
+    hit = np.zeros(n, dtype=bool)
+    hit[vertices] = True
+    ids = np.flatnonzero(topology.any_corner(hit, F))
+    return ids, F[ids]
 
 
 def _cost_quantiles(cost: np.ndarray, shares) -> list:

@@ -182,15 +182,21 @@ def next_corner(corner: np.ndarray) -> np.ndarray:
     return corner - corner % 3 + (corner % 3 + 1) % 3
 
 
-def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> tuple:
+def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: int, window=None) -> tuple:
     """All corners of each of ``vertices`` (k,), distinct. Returns (owner (c,), corners (c,)):
     owner[i] is the position in ``vertices`` whose corner corners[i] is (flat f*3+s).
-    One scan over all corners: cheaper than keeping a vertex-to-corner index up to date."""
+    One scan over all corners: cheaper than keeping a vertex-to-corner index up to date.
+    window: optional (face ids, their rows of faces) known to hold every face of
+    ``vertices``; only those are scanned."""
     owner_of = np.full(n_vertices, -1, dtype=np.int32)  # int32: half the bytes to scan
     owner_of[vertices] = np.arange(len(vertices), dtype=np.int32)
-    per_corner = owner_of[faces.ravel()]
+    scanned = faces if window is None else window[1]
+    per_corner = owner_of[scanned.ravel()]
     corners = np.flatnonzero(per_corner >= 0)
-    return per_corner[corners].astype(np.int64), corners
+    owner = per_corner[corners].astype(np.int64)
+    if window is not None:
+        corners = 3 * window[0][corners // 3] + corners % 3
+    return owner, corners
 
 
 def connected_labels(n_nodes: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -22,14 +22,15 @@ SLIVER_SLACK = 0.5
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
-def valid_collapses(s, conn, cand, chosen) -> np.ndarray:
-    """(len(chosen),) bool: which chosen collapses are safe to apply."""
+def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
+    """(len(chosen),) bool: which chosen collapses are safe to apply. window: see
+    topology.gather_vertex_corners."""
     c = len(chosen)
     if c == 0:
         return np.zeros(0, dtype=bool)
     n = len(s.V)
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
-    owner, corners = topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n)
+    owner, corners = topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window)
     from_keep = owner < c
     collapse = np.where(from_keep, owner, owner - c)
     faces = corners // 3
