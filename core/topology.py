@@ -91,16 +91,21 @@ def after_collapses(conn: Connectivity, alive: np.ndarray, remap: np.ndarray, re
         return None
     gone, kept = merging
     alive_he = np.repeat(alive, 3)
-    he0, he1, edge_faces = _merge(conn, gone, kept, alive_he)
+    merged_he0, merged_he1 = _merged_half_edges(conn, gone, kept, alive_he)
+    merged_faces = conn.edge_faces[kept] + conn.edge_faces[gone] - 2  # each loses its dying face
+    stays = merged_faces > 0  # a lone triangle's last edges leave with it
 
     survive = ~collapsed
     survive[gone] = False
-    survive &= edge_faces > 0  # a lone triangle's last edges leave with it
+    survive[kept[~stays]] = False
     new_edge = np.cumsum(survive) - 1
+    he0, he1 = conn.edge_he0.compress(survive), conn.edge_he1.compress(survive)
+    edge_faces = conn.edge_faces.compress(survive)
+    at = new_edge[kept[stays]]
+    he0[at], he1[at], edge_faces[at] = merged_he0[stays], merged_he1[stays], merged_faces[stays]
     new_edge[gone] = new_edge[kept]  # a gone edge's half-edges now belong to its merge
     new_he = np.cumsum(alive_he) - 1
-    he0 = new_he[he0.compress(survive)]
-    he1 = he1.compress(survive)
+    he0 = new_he[he0]
     he1 = np.where(he1 >= 0, new_he[he1], -1)
     he_edge = new_edge[conn.he_edge.compress(alive_he)]
     # A non-manifold edge lists two of its half-edges only: where one merged, take them
@@ -109,7 +114,7 @@ def after_collapses(conn: Connectivity, alive: np.ndarray, remap: np.ndarray, re
     if was_non_manifold.any():
         _relist(new_edge[kept[was_non_manifold]], he_edge, he0, he1)
     lo, hi = np.minimum(a, b).compress(survive), np.maximum(a, b).compress(survive)
-    return _connectivity(lo, hi, edge_faces.compress(survive), he0, he1, he_edge, n), survive
+    return _connectivity(lo, hi, edge_faces, he0, he1, he_edge, n), survive
 
 
 def _merging_edges(conn, alive, collapsed, removed, n):
@@ -120,33 +125,27 @@ def _merging_edges(conn, alive, collapsed, removed, n):
     is_removed[removed] = True
     dying = np.flatnonzero(~alive)
     edge_of = conn.he_edge[(3 * dying[:, None] + np.arange(3)).ravel()].reshape(-1, 3)
-    ends = conn.edges[edge_of]
-    to_removed = is_removed[ends[..., 0]] | is_removed[ends[..., 1]]
+    to_removed = is_removed[conn.edges[:, 0][edge_of]] | is_removed[conn.edges[:, 1][edge_of]]
     gone_side = to_removed & ~collapsed[edge_of]
     kept_side = ~to_removed
     gone, kept = edge_of[gone_side], edge_of[kept_side]
-    if not (np.all(gone_side.sum(axis=1) == 1) and np.all(kept_side.sum(axis=1) == 1)
-            and len(np.unique(kept)) == len(kept)):
+    if not (len(gone) == len(kept) == len(dying) and np.all(gone_side.any(axis=1))
+            and np.all(kept_side.any(axis=1)) and len(np.unique(kept)) == len(kept)):
         return None
     return gone, kept
 
 
-def _merge(conn, gone, kept, alive_he):
-    """(he0, he1, edge_faces) over the old edges with each kept edge listing the live
-    half-edges of itself and of the edge merging into it (one each, on manifold edges)."""
+def _merged_half_edges(conn, gone, kept, alive_he):
+    """(he0, he1) of each kept edge after its merge: the live half-edge of itself and of
+    the edge merging into it (one each, on manifold edges), the second -1 if none."""
     def live(h):
         return np.where((h >= 0) & alive_he[h], h, -1)
 
-    he0, he1 = conn.edge_he0.copy(), conn.edge_he1.copy()
-    own = live(he0[kept])
-    own = np.where(own >= 0, own, live(he1[kept]))
-    joining = live(he0[gone])
-    joining = np.where(joining >= 0, joining, live(he1[gone]))
-    he0[kept] = np.where(own >= 0, own, joining)
-    he1[kept] = np.where(own >= 0, joining, -1)
-    edge_faces = conn.edge_faces.copy()
-    edge_faces[kept] += edge_faces[gone] - 2  # each loses its dying face
-    return he0, he1, edge_faces
+    own = live(conn.edge_he0[kept])
+    own = np.where(own >= 0, own, live(conn.edge_he1[kept]))
+    joining = live(conn.edge_he0[gone])
+    joining = np.where(joining >= 0, joining, live(conn.edge_he1[gone]))
+    return np.where(own >= 0, own, joining), np.where(own >= 0, joining, -1)
 
 
 def _relist(edges, he_edge, he0, he1) -> None:
