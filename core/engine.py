@@ -30,7 +30,7 @@ from .result import (
 from .wedges import Wedges
 from .geometry import edge_parameter, face_frames, rows
 
-# Selection rounds per pass: more rounds, more collapses per connectivity rebuild.
+# Selection rounds per pass: more rounds, more collapses per connectivity update.
 SELECTION_ROUNDS = 4
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential
 # greedy order more closely, higher needs fewer passes. The share narrows as the target
@@ -178,7 +178,7 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
 
     Several selection rounds: each takes the local minima among candidates whose ends lie
     outside the closed one-rings of the collapses already taken, so later rounds never
-    interfere with earlier ones and one connectivity rebuild serves many more collapses.
+    interfere with earlier ones and one connectivity update serves many more collapses.
     """
     taken = []
     # Greedy order, approximately: only the cheapest share of candidates may go this
