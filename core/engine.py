@@ -283,14 +283,15 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
     s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
     s.face_origin = s.face_origin.compress(alive)
-    s.conn, kept_edges = topology.after_collapses(conn, alive, remap, remove) or (None, None)
-    if s.conn is None:  # only if the collapses were not independent: start afresh
+    carried = topology.after_collapses(conn, alive, remap, remove)
+    if carried is None:  # only if the collapses were not independent: start afresh
         s.conn = topology.build(s.F, len(s.V))
         s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
         s.cost_cache = None
     else:
-        s.rejected_pass = s.rejected_pass.compress(kept_edges)
-        s.cost_slot = s.cost_slot.compress(kept_edges)
+        s.conn, surviving_edges = carried
+        s.rejected_pass = s.rejected_pass.compress(surviving_edges)
+        s.cost_slot = s.cost_slot.compress(surviving_edges)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     is_keep = np.zeros(len(s.V), dtype=bool)
