@@ -51,8 +51,9 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     ok &= ~((faces_on_edge == 2) & conn.border_vertex[a] & conn.border_vertex[b])
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
+    once_rejected = np.flatnonzero(ok & (s.rejected_pass > 0))
+    ok[once_rejected[_still_rejected(s, once_rejected, a[once_rejected], b[once_rejected])]] = False
     idx = np.flatnonzero(ok)
-    idx = idx.compress(~_still_rejected(s, idx, a[idx], b[idx]))
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
 
