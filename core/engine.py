@@ -211,9 +211,7 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
 
 def _faces_around(F, vertices, n) -> tuple:
     """(face ids, their rows of F): the faces with a corner among ``vertices``."""
-    hit = np.zeros(n, dtype=bool)
-    hit[vertices] = True
-    ids = np.flatnonzero(topology.any_corner(hit, F))
+    ids = np.flatnonzero(topology.faces_touching(F, vertices, n))
     return ids, F[ids]
 
 
@@ -294,9 +292,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         s.cost_slot = s.cost_slot.compress(surviving_edges)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
-    is_keep = np.zeros(len(s.V), dtype=bool)
-    is_keep[keep] = True
-    around = topology.any_corner(is_keep, s.F)
+    around = topology.faces_touching(s.F, keep, len(s.V))
     s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
 
 

@@ -153,6 +153,5 @@ def closed_rings(conn, F, vertices, n) -> np.ndarray:
     """(n,) bool: ``vertices`` and every vertex sharing a face with one of them."""
     hit = np.zeros(n, dtype=bool)
     hit[vertices] = True
-    faces_hit = topology.any_corner(hit, F)
-    hit[np.compress(faces_hit, F, axis=0).ravel()] = True
+    hit[np.compress(topology.faces_touching(F, vertices, n), F, axis=0).ravel()] = True
     return hit

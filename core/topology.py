@@ -170,6 +170,13 @@ def _connectivity(lo, hi, edge_faces, he0, he1, he_edge, n_vertices, edge_keys=N
                         border_vertex=border_vertex, edge_keys=edge_keys)
 
 
+def faces_touching(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(m,) bool: the faces with a corner among ``vertices``."""
+    flags = np.zeros(n_vertices, dtype=bool)
+    flags[vertices] = True
+    return any_corner(flags, faces)
+
+
 def any_corner(flags: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(m,) whether any corner of each face has a set per-vertex flag. Three gathers and
     two ors: reductions along a length-3 axis are several times slower in NumPy."""
