@@ -2,7 +2,8 @@
 
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
-  opposite the edge, and a closed tetrahedron is never collapsed;
+  opposite the edge, and neither a closed tetrahedron nor a lone triangle is collapsed
+  (no component disappears);
 - no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
   the input face it descends from) or collapses to zero area,
   and none becomes a sliver (quality below SLIVER_GUARD) worse than it was;
@@ -120,6 +121,10 @@ def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_kee
     degree_keep = np.bincount(owner.compress(~from_remove), minlength=c) + 1
     degree_remove = np.bincount(owner.compress(from_remove), minlength=c) + 1
     ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
+    # Both ends of degree two on a border edge: the edge's face is a whole component on
+    # its own, and collapsing it would delete that piece (and its third vertex, even
+    # locked). Like the tetrahedron, a component's last triangle stays.
+    ok &= ~((conn.edge_faces[edges] == 1) & (degree_keep == 2) & (degree_remove == 2))
     return ok
 
 

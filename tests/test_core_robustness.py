@@ -101,6 +101,28 @@ def test_many_components_each_simplified_and_kept():
     assert mg.boundary_loops(r.faces) == mg.boundary_loops(F)
 
 
+def test_small_components_are_never_deleted_nor_their_locked_vertices():
+    # A disc simplifies down to one triangle; collapsing an edge of that last triangle
+    # would delete the whole piece (and any locked vertex on it). Found by a fuzz run on
+    # cropped real meshes: a 45-face disc with two locked vertices vanished at 5 %.
+    rng = np.random.default_rng(3)
+    lone = [(rng.normal(size=(3, 3)) + [0.0, 0.0, 5.0 * k], np.array([[0, 1, 2]])) for k in range(3)]
+    quad = (np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]) + [10.0, 0, 0], np.array([[0, 1, 2], [0, 2, 3]]))
+    discs = [(v + [20.0 + 5 * k, 0.0, 0.0], f) for k, (v, f) in enumerate([mg.grid(4, jitter=0.2, seed=k) for k in range(3)])]
+    V, F = mg.components(lone + [quad] + discs)
+    n_comp = mg.count_components(len(V), mg.edge_table(F)[0])
+    locked = np.zeros(len(V), dtype=bool)
+    locked[len(V) - 5] = True  # a vertex of the last disc
+    for kw in ({}, {"locked": locked}):
+        r = core.simplify(V, F, target_faces=0, **kw)
+        mg.assert_valid_result(r, V, F)
+        assert r.stats.stop_reason == "no_valid_collapse"
+        assert len(r.faces) >= n_comp
+        assert mg.count_components(len(r.vertices), mg.edge_table(r.faces)[0]) == n_comp
+        if kw:
+            assert np.isin(np.flatnonzero(locked), r.vertex_origin).all(), "a locked vertex was deleted"
+
+
 def test_non_manifold_edge_is_left_alone():
     V, F = mg.with_fin(10, 3)
     e, count = mg.edge_table(F)
