@@ -81,6 +81,7 @@ class State:
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
     kind: object = None  # last pass's vertex kinds
     moved: object = None  # (n,) vertices that were ever given a new position
+    face_count: object = None  # (n,) faces around each vertex (validation: no vertex loses its last)
     source_normals: object = None  # (input faces, 3) unit normal of every input face
     max_error_seen: float = 0.0
 
@@ -106,6 +107,7 @@ def run(p: Problem) -> list:
         rejected_pass=np.zeros(len(conn.edges), dtype=np.int64),
         changed=np.zeros(n, dtype=bool),
         moved=np.zeros(n, dtype=bool),
+        face_count=np.bincount(F.ravel(), minlength=n),
         source_normals=_source_normals(p),
     )
     s.area_scale = float(area.mean()) if n else 1.0
@@ -279,6 +281,9 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     remap[remove] = keep
     F = remap[s.F]
     alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
+    np.subtract.at(s.face_count, s.F[~alive].ravel(), 1)
+    s.face_count[keep] += s.face_count[remove]
+    s.face_count[remove] = 0
     s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
     s.face_origin = s.face_origin.compress(alive)
     carried = topology.after_collapses(conn, alive, remap, remove)

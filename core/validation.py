@@ -2,8 +2,9 @@
 
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
-  opposite the edge, and neither a closed tetrahedron nor a lone triangle is collapsed
-  (no component disappears);
+  opposite the edge, and a closed tetrahedron is never collapsed;
+- no vertex loses its last face (the kept end, or a corner opposite the edge), so no
+  part of the mesh disappears, and no locked vertex with it;
 - no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
   the input face it descends from) or collapses to zero area,
   and none becomes a sliver (quality below SLIVER_GUARD) worse than it was;
@@ -50,6 +51,7 @@ def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
     moving = corner_vertex[corners]
     open_fan = conn.border_vertex[moving] | s.locked[moving]
     ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
+    ok &= _no_vertex_left_bare(s.face_count, keep, remove, nb_next, nb_prev, other_end, dying & from_keep, collapse, c, n)
 
     source = rows(s.source_normals, s.face_origin[faces])
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
@@ -121,10 +123,25 @@ def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_kee
     degree_keep = np.bincount(owner.compress(~from_remove), minlength=c) + 1
     degree_remove = np.bincount(owner.compress(from_remove), minlength=c) + 1
     ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
-    # Both ends of degree two on a border edge: the edge's face is a whole component on
-    # its own, and collapsing it would delete that piece (and its third vertex, even
-    # locked). Like the tetrahedron, a component's last triangle stays.
-    ok &= ~((conn.edge_faces[edges] == 1) & (degree_keep == 2) & (degree_remove == 2))
+    return ok
+
+
+def _no_vertex_left_bare(face_count, keep, remove, nb_next, nb_prev, other_end, dying_once, collapse, c, n):
+    """(c,) bool: collapses after which every vertex they touch still has a face.
+
+    A collapse deletes the faces on its edge (dying_once marks each of them once, at its
+    keep-side corner). The kept end then has the faces of both ends but those; each
+    corner opposite the edge loses one. A lone triangle, or a fan hanging off a pinch,
+    would otherwise vanish with its last collapse, taking even locked vertices along."""
+    dying_per_collapse = np.bincount(collapse.compress(dying_once), minlength=c)
+    ok = face_count[keep] + face_count[remove] - 2 * dying_per_collapse > 0
+    owner = collapse.compress(dying_once)
+    next_, prev_ = nb_next.compress(dying_once), nb_prev.compress(dying_once)
+    opposite = np.where(next_ == other_end.compress(dying_once), prev_, next_)
+    # The same opposite corner twice in one collapse (both faces on the edge) loses two.
+    code, lost = np.unique(owner * np.int64(n) + opposite, return_counts=True)
+    bare = face_count[code % n] <= lost
+    ok[(code // n).compress(bare)] = False
     return ok
 
 

@@ -123,6 +123,26 @@ def test_small_components_are_never_deleted_nor_their_locked_vertices():
             assert np.isin(np.flatnonzero(locked), r.vertex_origin).all(), "a locked vertex was deleted"
 
 
+def test_no_fan_disappears_at_a_pinch():
+    # A triangle hanging off a disc by one corner (a bowtie). Collapsing its edge at the
+    # pinch would leave its locked third corner with no face at all, and the disc's last
+    # triangle could go the same way. Found by the same fuzz run, on a crop of
+    # stanford-bunny.
+    V, F = mg.grid(6, jitter=0.1, seed=2)
+    border = mg.boundary_edges(F)[0, 0]
+    hanging = V[border] + np.array([[0.3, -0.4, 0.2], [0.5, -0.1, 0.3]])
+    x, y = len(V), len(V) + 1
+    V = np.concatenate([V, hanging])
+    F = np.concatenate([F, [[border, x, y]]])
+    locked = np.zeros(len(V), dtype=bool)
+    locked[x] = True
+    r = core.simplify(V, F, target_faces=0, locked=locked)
+    mg.assert_valid_result(r, V, F, manifold=False)
+    assert x in r.vertex_origin, "the locked vertex was deleted with its only face"
+    # Nor does the disc vanish behind the pinch: its last triangle stays.
+    assert np.any(~np.isin(r.vertex_origin[r.faces], [x, y]).any(axis=1)), "the disc was deleted"
+
+
 def test_non_manifold_edge_is_left_alone():
     V, F = mg.with_fin(10, 3)
     e, count = mg.edge_table(F)
