@@ -205,6 +205,40 @@ def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: i
     return owner, corners
 
 
+def fans_per_vertex(conn: Connectivity, faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(n,) the number of fans around each vertex: groups of its faces joined across
+    interior edges at the vertex. A manifold vertex has one (zero if unused).
+
+    Counting edges and faces cannot see a vertex pinched between two closed fans (each has
+    as many edges as faces), so the fans are found: ``turn`` steps from a corner to the
+    same vertex's corner across its outgoing edge, so each closed fan is a cycle of turns
+    and each open one a path ending at a border corner (which turns onto itself). After
+    k doublings of the step, with 2^k at least the vertex's face count, every corner of a
+    cycle knows the cycle's smallest corner and every corner of a path its end: one
+    representative per fan. Where orientation disagrees across an edge a fan may split in
+    two and its vertex count as pinched, which only locks it.
+    """
+    flat = faces.ravel()
+    corner = np.arange(len(flat))
+    edge = conn.he_edge
+    he0, he1 = conn.edge_he0[edge], conn.edge_he1[edge]
+    interior = conn.edge_faces[edge] == 2
+    across = np.where(interior, np.where(he0 == corner, he1, he0), corner)
+    # Consistently oriented, the half-edge across ends at this vertex; if not, it starts
+    # there. (A gather from a table of next corners beats next_corner's modulo here.)
+    following = corner.reshape(-1, 3)[:, [1, 2, 0]].ravel()
+    turn = np.where(flat[across] == flat, across, following[across])
+    turn[~interior] = corner[~interior]
+    faces_at = np.bincount(flat, minlength=n_vertices)
+    smallest, reach = corner.copy(), turn
+    for _ in range(int(np.ceil(np.log2(max(int(faces_at.max(initial=0)), 2))))):
+        np.minimum(smallest, smallest[reach], out=smallest)
+        reach = reach[reach]
+    on_path = turn[reach] == reach
+    representative = np.where(on_path, reach, smallest)
+    return np.bincount(flat[representative == corner], minlength=n_vertices)
+
+
 def connected_labels(n_nodes: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Connected components of the graph with edges a[i]-b[i] over nodes 0..n_nodes-1.
 

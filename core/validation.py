@@ -2,7 +2,8 @@
 
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
-  opposite the edge, and a closed tetrahedron is never collapsed;
+  opposite the edge, and no edge between those two neighbours (a closed tetrahedron,
+  or one hanging off a pinch, would fold into two faces on the same corners);
 - no vertex loses its last face (the kept end, or a corner opposite the edge), so no
   part of the mesh disappears, and no locked vertex with it;
 - no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
@@ -51,7 +52,13 @@ def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
     moving = corner_vertex[corners]
     open_fan = conn.border_vertex[moving] | s.locked[moving]
     ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
-    ok &= _no_vertex_left_bare(s.face_count, keep, remove, nb_next, nb_prev, other_end, dying & from_keep, collapse, c, n)
+    # The corners opposite the edge: one per face on it (-1 where a border edge has one).
+    edge = cand.edge[chosen]
+    opposite0 = corner_vertex[topology.next_corner(topology.next_corner(conn.edge_he0[edge]))]
+    he1 = conn.edge_he1[edge]
+    opposite1 = np.where(he1 >= 0, corner_vertex[topology.next_corner(topology.next_corner(np.maximum(he1, 0)))], -1)
+    ok &= _no_vertex_left_bare(s.face_count, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
+    ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
 
     source = rows(s.source_normals, s.face_origin[faces])
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
@@ -102,11 +109,12 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source) -> np.ndarray:
 
 
 def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n) -> np.ndarray:
-    """Link condition and tetrahedron test from the ring neighbours of both ends.
+    """Link condition from the ring neighbours of both ends: they share exactly the
+    corners opposite the edge.
 
     Every (collapse, neighbour, side) becomes one integer; one sort of them all gives the
-    distinct neighbours of each end (degrees) and, where the same neighbour follows on the
-    other side, the neighbours the two ends share. nb_prev counts only where open_fan."""
+    distinct neighbours of each end and, where the same neighbour follows on the other
+    side, the neighbours the two ends share. nb_prev counts only where open_fan."""
     nb = np.concatenate([nb_next, nb_prev.compress(open_fan)])
     owner = np.concatenate([collapse, collapse.compress(open_fan)])
     side = np.concatenate([~from_keep, (~from_keep).compress(open_fan)])
@@ -118,31 +126,36 @@ def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_kee
     shared_here = np.zeros(len(distinct), dtype=bool)
     shared_here[:-1] = (distinct[1:] == distinct[:-1] + 1) & ~from_remove[:-1]
     shared = np.bincount(owner.compress(shared_here), minlength=c)
-    ok = shared == conn.edge_faces[edges]
-    # Both ends of degree three around an inner edge: a closed tetrahedron would fold flat.
-    degree_keep = np.bincount(owner.compress(~from_remove), minlength=c) + 1
-    degree_remove = np.bincount(owner.compress(from_remove), minlength=c) + 1
-    ok &= ~((conn.edge_faces[edges] == 2) & (degree_keep == 3) & (degree_remove == 3))
-    return ok
+    return shared == conn.edge_faces[edges]
 
 
-def _no_vertex_left_bare(face_count, keep, remove, nb_next, nb_prev, other_end, dying_once, collapse, c, n):
+def _no_vertex_left_bare(face_count, keep, remove, faces_on_edge, opposite0, opposite1) -> np.ndarray:
     """(c,) bool: collapses after which every vertex they touch still has a face.
 
-    A collapse deletes the faces on its edge (dying_once marks each of them once, at its
-    keep-side corner). The kept end then has the faces of both ends but those; each
-    corner opposite the edge loses one. A lone triangle, or a fan hanging off a pinch,
-    would otherwise vanish with its last collapse, taking even locked vertices along."""
-    dying_per_collapse = np.bincount(collapse.compress(dying_once), minlength=c)
-    ok = face_count[keep] + face_count[remove] - 2 * dying_per_collapse > 0
-    owner = collapse.compress(dying_once)
-    next_, prev_ = nb_next.compress(dying_once), nb_prev.compress(dying_once)
-    opposite = np.where(next_ == other_end.compress(dying_once), prev_, next_)
-    # The same opposite corner twice in one collapse (both faces on the edge) loses two.
-    code, lost = np.unique(owner * np.int64(n) + opposite, return_counts=True)
-    bare = face_count[code % n] <= lost
-    ok[(code // n).compress(bare)] = False
+    A collapse deletes the faces on its edge (faces_on_edge, 1 or 2; opposite0/opposite1
+    their corners opposite the edge, -1 for none). The kept end then has the faces of
+    both ends but those; each opposite corner loses one. A lone triangle, or a fan
+    hanging off a pinch, would otherwise vanish with its last collapse, taking even
+    locked vertices along."""
+    ok = face_count[keep] + face_count[remove] - 2 * faces_on_edge > 0
+    lost = 1 + (opposite1 == opposite0)  # both faces on one opposite corner: it loses two
+    ok &= face_count[opposite0] > lost
+    ok &= (opposite1 < 0) | (face_count[np.maximum(opposite1, 0)] > lost)
     return ok
+
+
+def _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c):
+    """(c,) bool: False where both ends have a surviving face on the two corners opposite
+    an inner edge. Collapsing would turn those faces into two on the same three vertices:
+    a closed tetrahedron folding flat, also where one end has other fans (a pinch), which
+    a degree count cannot see. The ends share no other neighbour (link condition), so
+    that is the only edge of their rings that both can have."""
+    inner = (opposite1 >= 0) & (opposite1 != opposite0)
+    o0, o1 = opposite0[collapse], opposite1[collapse]
+    on_pair = ~dying & inner[collapse] & (((nb_next == o0) & (nb_prev == o1)) | ((nb_next == o1) & (nb_prev == o0)))
+    at_keep = np.bincount(collapse.compress(on_pair & from_keep), minlength=c)
+    at_remove = np.bincount(collapse.compress(on_pair & ~from_keep), minlength=c)
+    return (at_keep == 0) | (at_remove == 0)
 
 
 def _quality(double_area, ab, ac, bc_squared):

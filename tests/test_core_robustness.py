@@ -336,3 +336,21 @@ def test_exact_weld_matches_rowwise_unique(seed, n, levels):
     V[rng.random((n, 3)) < 0.3] *= -1.0  # turns some 0.0 into -0.0
     _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
     np.testing.assert_array_equal(weld_map(V, None), first[inverse.reshape(-1)])
+
+
+def test_a_tetrahedron_hanging_off_a_pinch_is_not_folded_flat():
+    # A closed tetrahedron sharing one corner with a sphere: that corner has more
+    # neighbours than a tetrahedron's, so a degree count does not see that collapsing the
+    # edge from it would fold the tetrahedron into two faces on the same three corners.
+    # Found by a fuzz run on cropped real meshes with pinches.
+    V, F, _ = mg.uv_sphere(10, 6)
+    apex = int(np.argmax(V[:, 0]))
+    tet = V[apex] + np.array([[0.4, 0.1, 0.0], [0.4, -0.2, 0.2], [0.4, -0.1, -0.3]])
+    a, b, c = len(V), len(V) + 1, len(V) + 2
+    V = np.concatenate([V, tet])
+    F = np.concatenate([F, [[apex, b, a], [apex, c, b], [apex, a, c], [a, b, c]]])
+    for locked in (None, np.isin(np.arange(len(V)), [a])):
+        r = core.simplify(V, F, target_faces=0, locked=locked)
+        mg.assert_valid_result(r, V, F, manifold=False)
+        on_tet = np.isin(r.vertex_origin[r.faces], [a, b, c]).any(axis=1)
+        assert on_tet.sum() == 4, "the tetrahedron lost faces"
