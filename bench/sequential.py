@@ -261,7 +261,7 @@ class _Sequential:
         return self._valid_topology(k, r, len(shared)) and self._valid_geometry(k, r, x)
 
     def _valid_topology(self, k: int, r: int, edge_faces: int) -> bool:
-        """core.validation's link condition and tetrahedron test, and selection's
+        """core.validation's link condition, fold and bare-vertex tests, and selection's
         border rule, for one edge."""
         ck, cr = self._ring_counts(k), self._ring_counts(r)
         # Boundaries stay boundaries: an inner edge joining two border vertices pinches.
@@ -272,8 +272,21 @@ class _Sequential:
         # Link condition: the ends share exactly the vertices opposite the edge.
         if len(nk & nr) != edge_faces:
             return False
-        # Both ends of degree three around an inner edge: a closed tetrahedron.
-        return not (edge_faces == 2 and len(nk) == 2 and len(nr) == 2)
+        opposite = nk & nr
+        F = self.F
+        # No vertex loses its last face: the kept end, or a corner opposite the edge.
+        if len(self.faces_of[k]) + len(self.faces_of[r]) - 2 * edge_faces <= 0:
+            return False
+        if any(len(self.faces_of[o]) <= 1 for o in opposite):
+            return False
+        # Both ends keep a face on the two opposite corners: it would fold into a pair of
+        # faces on the same vertices (a closed tetrahedron, also off a pinch).
+        if edge_faces == 2 and len(opposite) == 2:
+            on_pair = [any(opposite <= set(F[f]) for f in self.faces_of[end] if other not in F[f])
+                       for end, other in ((k, r), (r, k))]
+            if all(on_pair):
+                return False
+        return True
 
     def _valid_geometry(self, k: int, r: int, x) -> bool:
         """Flip, zero-area, flat-ring fold-over, source-facing and sliver guards over every
