@@ -2,8 +2,9 @@
 
 Checked in bulk over the corners around both ends of every chosen edge:
 - link condition (manifold in, manifold out): the ends share exactly the neighbours
-  opposite the edge, and no edge between those two neighbours (a closed tetrahedron,
-  or one hanging off a pinch, would fold into two faces on the same corners);
+  opposite the edge, and do not both keep a face on those two neighbours (a closed
+  tetrahedron, or one hanging off a pinch, would fold into two faces on the same
+  corners);
 - no vertex loses its last face (the kept end, or a corner opposite the edge), so no
   part of the mesh disappears, and no locked vertex with it;
 - no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
@@ -51,9 +52,9 @@ def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
     # vertices need both to see their whole ring.
     moving = corner_vertex[corners]
     open_fan = conn.border_vertex[moving] | s.locked[moving]
-    ok = _link_condition(conn, cand.edge[chosen], nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
-    # The corners opposite the edge: one per face on it (-1 where a border edge has one).
     edge = cand.edge[chosen]
+    ok = _link_condition(conn, edge, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
+    # The corners opposite the edge: one per face on it (-1 where a border edge has one).
     opposite0 = corner_vertex[topology.next_corner(topology.next_corner(conn.edge_he0[edge]))]
     he1 = conn.edge_he1[edge]
     opposite1 = np.where(he1 >= 0, corner_vertex[topology.next_corner(topology.next_corner(np.maximum(he1, 0)))], -1)
