@@ -67,7 +67,7 @@ def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
     ok &= np.bincount(collapse[bad], minlength=c) == 0
 
     if s.wedges is not None:
-        ok &= s.wedges.valid_uv(s.F, conn, cand.edge[chosen], keep, remove, pos, s.V, faces, collapse, dying, c)
+        ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c)
     return ok
 
 
