@@ -188,15 +188,21 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     pass_limit, later_limit = _cost_quantiles(cand.cost, (share, share * LATER_ROUND_SHARE))
     eligible = cand.cost <= pass_limit
     window = None  # later rounds look only at the faces around what is still eligible
+    faces_taken = None  # faces that collapses taken in earlier rounds remove at their opposite corners
     for round_no in range(SELECTION_ROUNDS):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
             break
-        ok = validation.valid_collapses(s, conn, cand, chosen, window)
+        ok = validation.valid_collapses(s, conn, cand, chosen, window, faces_taken)
         _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
         eligible[chosen] = False
         chosen = chosen[ok]
         taken.append(chosen)
+        # A pinched vertex can be the corner opposite collapses of several rounds.
+        opposite0, opposite1 = validation.opposite_corners(s.F, conn, cand.edge[chosen])
+        if faces_taken is None:
+            faces_taken = np.zeros(n, dtype=s.face_count.dtype)
+        np.add.at(faces_taken, np.concatenate([opposite0, opposite1.compress(opposite1 >= 0)]), 1)
         if round_no == 0:
             eligible &= cand.cost <= max(later_limit, ORDER_FREE_COST)
         if len(chosen) == 0:

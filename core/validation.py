@@ -26,9 +26,10 @@ SLIVER_SLACK = 0.5
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
-def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
+def valid_collapses(s, conn, cand, chosen, window=None, faces_taken=None) -> np.ndarray:
     """(len(chosen),) bool: which chosen collapses are safe to apply. window: see
-    topology.gather_vertex_corners."""
+    topology.gather_vertex_corners. faces_taken: (n,) faces each vertex already loses to
+    collapses accepted earlier in this pass (as corner opposite their edge), or None."""
     c = len(chosen)
     if c == 0:
         return np.zeros(0, dtype=bool)
@@ -54,11 +55,8 @@ def valid_collapses(s, conn, cand, chosen, window=None) -> np.ndarray:
     open_fan = conn.border_vertex[moving] | s.locked[moving]
     edge = cand.edge[chosen]
     ok = _link_condition(conn, edge, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
-    # The corners opposite the edge: one per face on it (-1 where a border edge has one).
-    opposite0 = corner_vertex[topology.next_corner(topology.next_corner(conn.edge_he0[edge]))]
-    he1 = conn.edge_he1[edge]
-    opposite1 = np.where(he1 >= 0, corner_vertex[topology.next_corner(topology.next_corner(np.maximum(he1, 0)))], -1)
-    ok &= _no_vertex_left_bare(s.face_count, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
+    opposite0, opposite1 = opposite_corners(s.F, conn, edge)
+    ok &= _no_vertex_left_bare(s.face_count, faces_taken, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
 
     source = rows(s.source_normals, s.face_origin[faces])
@@ -130,18 +128,33 @@ def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_kee
     return shared == conn.edge_faces[edges]
 
 
-def _no_vertex_left_bare(face_count, keep, remove, faces_on_edge, opposite0, opposite1) -> np.ndarray:
+def opposite_corners(F, conn, edges) -> tuple:
+    """((k,), (k,)): the vertex opposite each edge in each of its faces; -1 in the
+    second where the edge has one face."""
+    corner_vertex = F.ravel()
+    opposite0 = corner_vertex[topology.next_corner(topology.next_corner(conn.edge_he0[edges]))]
+    he1 = conn.edge_he1[edges]
+    opposite1 = np.where(he1 >= 0, corner_vertex[topology.next_corner(topology.next_corner(np.maximum(he1, 0)))], -1)
+    return opposite0, opposite1
+
+
+def _no_vertex_left_bare(face_count, faces_taken, keep, remove, faces_on_edge, opposite0, opposite1) -> np.ndarray:
     """(c,) bool: collapses after which every vertex they touch still has a face.
 
     A collapse deletes the faces on its edge (faces_on_edge, 1 or 2; opposite0/opposite1
     their corners opposite the edge, -1 for none). The kept end then has the faces of
     both ends but those; each opposite corner loses one. A lone triangle, or a fan
     hanging off a pinch, would otherwise vanish with its last collapse, taking even
-    locked vertices along."""
+    locked vertices along. Independent collapses never share an end, but a pinched
+    vertex can be the opposite corner of several (one per fan): their losses add up."""
     ok = face_count[keep] + face_count[remove] - 2 * faces_on_edge > 0
-    lost = 1 + (opposite1 == opposite0)  # both faces on one opposite corner: it loses two
-    ok &= face_count[opposite0] > lost
-    ok &= (opposite1 < 0) | (face_count[np.maximum(opposite1, 0)] > lost)
+    corners = np.concatenate([opposite0, opposite1.compress(opposite1 >= 0)])
+    owner = np.concatenate([np.arange(len(keep)), np.flatnonzero(opposite1 >= 0)])
+    vertex, at, lost = np.unique(corners, return_inverse=True, return_counts=True)
+    if faces_taken is not None:  # by collapses accepted in earlier rounds of the pass
+        lost = lost + faces_taken[vertex]
+    bare = (face_count[vertex] <= lost)[at.reshape(-1)]
+    ok[owner.compress(bare)] = False
     return ok
 
 
