@@ -188,21 +188,24 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     pass_limit, later_limit = _cost_quantiles(cand.cost, (share, share * LATER_ROUND_SHARE))
     eligible = cand.cost <= pass_limit
     window = None  # later rounds look only at the faces around what is still eligible
-    faces_taken = None  # faces that collapses taken in earlier rounds remove at their opposite corners
+    # Faces the pass's collapses take from the corners opposite their edges.
+    faces_taken = np.zeros(n, dtype=s.face_count.dtype)
     for round_no in range(SELECTION_ROUNDS):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
             break
-        ok = validation.valid_collapses(s, conn, cand, chosen, window, faces_taken)
+        # Count every chosen collapse's losses first (a pinched vertex can be opposite
+        # several), then give back those of the rejected ones.
+        opposite = validation.opposite_corners(s.F, conn, cand.edge[chosen])
+        has1 = opposite[1] >= 0
+        corners = np.concatenate([opposite[0], opposite[1].compress(has1)])
+        np.add.at(faces_taken, corners, 1)
+        ok = validation.valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window)
+        np.subtract.at(faces_taken, corners.compress(~np.concatenate([ok, ok.compress(has1)])), 1)
         _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
         eligible[chosen] = False
         chosen = chosen[ok]
         taken.append(chosen)
-        # A pinched vertex can be the corner opposite collapses of several rounds.
-        opposite0, opposite1 = validation.opposite_corners(s.F, conn, cand.edge[chosen])
-        if faces_taken is None:
-            faces_taken = np.zeros(n, dtype=s.face_count.dtype)
-        np.add.at(faces_taken, np.concatenate([opposite0, opposite1.compress(opposite1 >= 0)]), 1)
         if round_no == 0:
             eligible &= cand.cost <= max(later_limit, ORDER_FREE_COST)
         if len(chosen) == 0:

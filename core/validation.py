@@ -26,10 +26,13 @@ SLIVER_SLACK = 0.5
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
-def valid_collapses(s, conn, cand, chosen, window=None, faces_taken=None) -> np.ndarray:
-    """(len(chosen),) bool: which chosen collapses are safe to apply. window: see
-    topology.gather_vertex_corners. faces_taken: (n,) faces each vertex already loses to
-    collapses accepted earlier in this pass (as corner opposite their edge), or None."""
+def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -> np.ndarray:
+    """(len(chosen),) bool: which chosen collapses are safe to apply.
+
+    opposite: ``opposite_corners`` of the chosen edges. faces_taken: (n,) the faces each
+    vertex loses as a corner opposite the edge of collapses of this pass: those accepted
+    in earlier rounds and every one chosen now (a pinched vertex can be opposite several
+    independent collapses, one per fan). window: see topology.gather_vertex_corners."""
     c = len(chosen)
     if c == 0:
         return np.zeros(0, dtype=bool)
@@ -55,7 +58,7 @@ def valid_collapses(s, conn, cand, chosen, window=None, faces_taken=None) -> np.
     open_fan = conn.border_vertex[moving] | s.locked[moving]
     edge = cand.edge[chosen]
     ok = _link_condition(conn, edge, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
-    opposite0, opposite1 = opposite_corners(s.F, conn, edge)
+    opposite0, opposite1 = opposite
     ok &= _no_vertex_left_bare(s.face_count, faces_taken, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
 
@@ -132,9 +135,12 @@ def opposite_corners(F, conn, edges) -> tuple:
     """((k,), (k,)): the vertex opposite each edge in each of its faces; -1 in the
     second where the edge has one face."""
     corner_vertex = F.ravel()
-    opposite0 = corner_vertex[topology.next_corner(topology.next_corner(conn.edge_he0[edges]))]
-    he1 = conn.edge_he1[edges]
-    opposite1 = np.where(he1 >= 0, corner_vertex[topology.next_corner(topology.next_corner(np.maximum(he1, 0)))], -1)
+    he0, he1 = conn.edge_he0[edges], conn.edge_he1[edges]
+    # The corner before a half-edge's start is the one opposite it.
+    opposite0 = corner_vertex[he0 - he0 % 3 + (he0 % 3 + 2) % 3]
+    has1 = he1 >= 0
+    he1 = np.where(has1, he1, 0)
+    opposite1 = np.where(has1, corner_vertex[he1 - he1 % 3 + (he1 % 3 + 2) % 3], -1)
     return opposite0, opposite1
 
 
@@ -145,16 +151,12 @@ def _no_vertex_left_bare(face_count, faces_taken, keep, remove, faces_on_edge, o
     their corners opposite the edge, -1 for none). The kept end then has the faces of
     both ends but those; each opposite corner loses one. A lone triangle, or a fan
     hanging off a pinch, would otherwise vanish with its last collapse, taking even
-    locked vertices along. Independent collapses never share an end, but a pinched
-    vertex can be the opposite corner of several (one per fan): their losses add up."""
+    locked vertices along. faces_taken: see valid_collapses."""
     ok = face_count[keep] + face_count[remove] - 2 * faces_on_edge > 0
-    corners = np.concatenate([opposite0, opposite1.compress(opposite1 >= 0)])
-    owner = np.concatenate([np.arange(len(keep)), np.flatnonzero(opposite1 >= 0)])
-    vertex, at, lost = np.unique(corners, return_inverse=True, return_counts=True)
-    if faces_taken is not None:  # by collapses accepted in earlier rounds of the pass
-        lost = lost + faces_taken[vertex]
-    bare = (face_count[vertex] <= lost)[at.reshape(-1)]
-    ok[owner.compress(bare)] = False
+    ok &= face_count[opposite0] > faces_taken[opposite0]
+    has1 = opposite1 >= 0
+    second = np.where(has1, opposite1, 0)
+    ok &= ~has1 | (face_count[second] > faces_taken[second])
     return ok
 
 
