@@ -20,7 +20,8 @@ A failing case is printed and saved as FAILDIR/case_<k>.npz (input arrays and co
 
 Found so far (each fixed, with a test): a mesh part collapsing to nothing with its locked
 vertices, a fan hanging off a pinch losing its last face, a vertex pinched between two
-closed fans left unlocked, and a tetrahedron off a pinch folded flat.
+closed fans left unlocked, a tetrahedron off a pinch folded flat, and a locked pinch
+losing the last face of each of its fans to two collapses of the same pass.
 """
 from __future__ import annotations
 
