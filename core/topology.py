@@ -188,6 +188,11 @@ def next_corner(corner: np.ndarray) -> np.ndarray:
     return corner - corner % 3 + (corner % 3 + 1) % 3
 
 
+def previous_corner(corner: np.ndarray) -> np.ndarray:
+    """The corner before ``corner`` (flat f*3+s) in its face: opposite its half-edge."""
+    return corner - corner % 3 + (corner % 3 + 2) % 3
+
+
 def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: int, window=None) -> tuple:
     """All corners of each of ``vertices`` (k,), distinct. Returns (owner (c,), corners (c,)):
     owner[i] is the position in ``vertices`` whose corner corners[i] is (flat f*3+s).

@@ -47,7 +47,7 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     # (or one of them is the other end, and the face dies with the edge).
     after = topology.next_corner(corners)
     nb_next = corner_vertex[after]
-    nb_prev = corner_vertex[topology.next_corner(after)]
+    nb_prev = corner_vertex[topology.previous_corner(corners)]
     other_end = np.where(from_keep, remove[collapse], keep[collapse])
     dying = (nb_next == other_end) | (nb_prev == other_end)
 
@@ -136,11 +136,9 @@ def opposite_corners(F, conn, edges) -> tuple:
     second where the edge has one face."""
     corner_vertex = F.ravel()
     he0, he1 = conn.edge_he0[edges], conn.edge_he1[edges]
-    # The corner before a half-edge's start is the one opposite it.
-    opposite0 = corner_vertex[he0 - he0 % 3 + (he0 % 3 + 2) % 3]
+    opposite0 = corner_vertex[topology.previous_corner(he0)]
     has1 = he1 >= 0
-    he1 = np.where(has1, he1, 0)
-    opposite1 = np.where(has1, corner_vertex[he1 - he1 % 3 + (he1 % 3 + 2) % 3], -1)
+    opposite1 = np.where(has1, corner_vertex[topology.previous_corner(np.where(has1, he1, 0))], -1)
     return opposite0, opposite1
 
 
