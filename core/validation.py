@@ -45,8 +45,7 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     corner_vertex = s.F.ravel()
     # Each gathered corner is the moving end itself; its face's other two corners stay put
     # (or one of them is the other end, and the face dies with the edge).
-    after = topology.next_corner(corners)
-    nb_next = corner_vertex[after]
+    nb_next = corner_vertex[topology.next_corner(corners)]
     nb_prev = corner_vertex[topology.previous_corner(corners)]
     other_end = np.where(from_keep, remove[collapse], keep[collapse])
     dying = (nb_next == other_end) | (nb_prev == other_end)
