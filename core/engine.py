@@ -283,10 +283,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     remap[remove] = keep
     F = remap[s.F]
     alive = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
-    # The faces on the collapsed edges die: their corners each lose a face.
-    he0, he1 = conn.edge_he0[cand.edge[chosen]], conn.edge_he1[cand.edge[chosen]]
-    dying = np.concatenate([he0, he1.compress(he1 >= 0)]) // 3
-    np.subtract.at(s.face_count, s.F[dying].ravel(), 1)
+    # The faces that die (those on the collapsed edges) each take a face from their corners.
+    np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
     s.face_count[keep] += s.face_count[remove]
     s.face_count[remove] = 0
     s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
