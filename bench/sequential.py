@@ -37,7 +37,7 @@ if str(_REPO_ROOT) not in sys.path:
 from core import prepare, quadrics, topology, vertex_quadrics  # noqa: E402
 from core.engine import _non_manifold_vertices  # noqa: E402  (same input locking as the engine)
 from core.geometry import face_frames  # noqa: E402
-from core.result import STOP_NO_COLLAPSE, STOP_TARGET  # noqa: E402
+from core.result import STOP_TOPOLOGY, STOP_TARGET  # noqa: E402
 from core.validation import corner_breaks  # noqa: E402  (the engine's own turn, area and sliver rules)
 
 COSTS = ("paper", "per_area")
@@ -174,7 +174,7 @@ class _Sequential:
         heap = self.heap
         while self.alive_faces > target:
             if not heap:
-                return STOP_NO_COLLAPSE
+                return STOP_TOPOLOGY
             entry = heapq.heappop(heap)
             if not self._is_current(entry):
                 continue  # lazy invalidation: an end moved or died since this was pushed

@@ -12,8 +12,9 @@ Public API:
 """
 from .result import (
     STOP_MAX_ERROR,
-    STOP_NO_COLLAPSE,
+    STOP_REASON_TEXT,
     STOP_TARGET,
+    STOP_TOPOLOGY,
     SimplifyCancelled,
     SimplifyResult,
     SimplifyStats,
@@ -31,7 +32,8 @@ __all__ = [
     "SimplifyCancelled",
     "STOP_TARGET",
     "STOP_MAX_ERROR",
-    "STOP_NO_COLLAPSE",
+    "STOP_TOPOLOGY",
+    "STOP_REASON_TEXT",
     "triangle_quality",
     "quality_summary",
     "importance_from_skin_weights",

@@ -7,6 +7,8 @@ One pass (cf. meshoptimizer's pipeline, vectorised):
   4. select        - edges cheapest in their two-ring neighbourhoods (independent)
   5. validate      - link condition, no flips, no degenerate or UV-flipped faces
   6. apply         - relabel faces, drop the dead ones, sum quadrics, carry attributes
+When no collapse passes the rules, the quality rules relax one step (core.guards) and the
+passes go on; only the loosest step's failure stops the run short of its target.
 Python loops run over passes only; every step is a bulk NumPy operation.
 """
 from __future__ import annotations
@@ -16,13 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import quadrics, selection, topology, validation, vertex_quadrics
+from . import components, features, quadrics, selection, topology, validation, vertex_quadrics
+from .guards import relaxation_ladder
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
 from .result import (
     STOP_MAX_ERROR,
-    STOP_NO_COLLAPSE,
     STOP_TARGET,
+    STOP_TOPOLOGY,
     SimplifyCancelled,
     SimplifyResult,
     SimplifyStats,
@@ -84,6 +87,9 @@ class State:
     face_count: object = None  # (n,) faces around each vertex (validation: no vertex loses its last)
     source_normals: object = None  # (input faces, 3) unit normal of every input face
     max_error_seen: float = 0.0
+    ladder: tuple = ()  # core.guards.relaxation_ladder of this run
+    guards: object = None  # the ladder step in force
+    removed_components: int = 0
 
 
 def run(p: Problem) -> list:
@@ -91,12 +97,14 @@ def run(p: Problem) -> list:
     n = len(p.vertices)
     F = p.faces
     conn = topology.build(F, n)
+    feature_edges, feature_weights, corners = _features(p, conn)
     Q, area = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
-        p.feature_edges, p.feature_edge_weights, p.probabilistic_sigma,
+        feature_edges, feature_weights, p.probabilistic_sigma,
     )
-    # Vertices on non-manifold edges, or pinched (several fans), are left alone.
-    locked = p.locked | _non_manifold_vertices(conn, F, n)
+    # Vertices on non-manifold edges, or pinched (several fans), are left alone; so are
+    # the corners where creases meet.
+    locked = p.locked | _non_manifold_vertices(conn, F, n) | corners
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
@@ -109,7 +117,9 @@ def run(p: Problem) -> list:
         moved=np.zeros(n, dtype=bool),
         face_count=np.bincount(F.ravel(), minlength=n),
         source_normals=_source_normals(p),
+        ladder=relaxation_ladder(p.min_quality),
     )
+    s.guards = s.ladder[0]
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
 
@@ -127,6 +137,8 @@ def run(p: Problem) -> list:
             continue
         passes += 1
         outcome = _one_pass(s, passes, target, max_error_sq, p.seed, p.preserve_seams)
+        if outcome == STOP_TOPOLOGY:
+            outcome = _unstick(s, p, target)
         if outcome is not None:
             stop = outcome
         if p.progress is not None:
@@ -134,6 +146,26 @@ def run(p: Problem) -> list:
             if p.progress(min(max(done, 0.0), 1.0)) is False:
                 raise SimplifyCancelled("simplification cancelled")
     return results
+
+
+def _unstick(s: State, p: Problem, target: int):
+    """Nothing passes the rules in force: relax the quality rules one step, or (when the
+    artist allows it and every rule is already relaxed) drop the smallest parts the
+    target cannot keep. Returns None to go on, or STOP_TOPOLOGY."""
+    if s.guards.step + 1 < len(s.ladder):
+        s.guards = s.ladder[s.guards.step + 1]
+        # Edges rejected under the stricter rules get a new chance; the cost cache of a
+        # pass that found no candidate has nothing to reuse.
+        s.rejected_pass[:] = 0
+        s.cost_cache = None
+        return None
+    if p.remove_small_components:
+        dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
+        if dropped is not None:
+            _drop_faces(s, ~dropped)
+            s.removed_components += 1
+            return None
+    return STOP_TOPOLOGY
 
 
 def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_seams):
@@ -146,7 +178,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     s.kind = kind
     cand = selection.candidates(s, conn, kind, pass_no)
     if len(cand.edge) == 0:
-        return STOP_NO_COLLAPSE
+        return STOP_TOPOLOGY
     if max_error_sq is not None:
         within = cand.cost <= max_error_sq
         if not within.any():
@@ -166,6 +198,23 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(cand.cost[chosen].max())))
         _apply(s, conn, cand, chosen, pass_no)
     return None
+
+
+def _features(p: Problem, conn) -> tuple:
+    """The given feature edges plus the creases sharper than ``feature_angle`` (each
+    edge once, the given weight winning), their weights, and the (n,) corners where
+    three or more of them meet."""
+    edges, weights = p.feature_edges, p.feature_edge_weights
+    if p.feature_angle:
+        crease = conn.edges[features.crease_edges(p.vertices, p.faces, conn, p.feature_angle)]
+        given = np.sort(edges, axis=1) if len(edges) else edges
+        n = len(p.vertices)
+        new = ~np.isin(crease[:, 0] * np.int64(n) + crease[:, 1], given[:, 0] * np.int64(n) + given[:, 1]) \
+            if len(given) else np.ones(len(crease), dtype=bool)
+        edges = np.concatenate([edges.reshape(-1, 2), crease[new]])
+        weights = np.concatenate([weights, np.full(int(new.sum()), p.feature_weight)])
+        return edges, weights, features.corners(edges, n)
+    return edges, weights, np.zeros(len(p.vertices), dtype=bool)
 
 
 def _source_normals(p: Problem) -> np.ndarray:
@@ -243,15 +292,17 @@ def _non_manifold_vertices(conn, F, n) -> np.ndarray:
 
 
 def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
-    """FREE, SEAM (moves only along its seam) or LOCKED for every vertex."""
+    """FREE, SEAM (moves only along its seam) or LOCKED for every vertex (rule seams)."""
     kind = np.where(s.locked, LOCKED, FREE).astype(np.int8)
-    if s.wedges is not None and preserve_seams:
+    if s.wedges is not None and preserve_seams and s.guards.seams != "free":
         seam_edge = s.wedges.seam_edges(conn)
         seam_count = np.bincount(conn.edges[seam_edge].ravel(), minlength=n)
         on_seam = seam_count > 0
         kind[on_seam & (kind == FREE)] = SEAM
-        # Seam ends and junctions stay put so the seam keeps its shape and its corners.
-        kind[on_seam & (seam_count != 2)] = LOCKED
+        # Seam ends and junctions stay put so the seam keeps its shape and its corners,
+        # until the rule relaxes to let them slide along one of their seams.
+        if s.guards.seams == "kept":
+            kind[on_seam & (seam_count != 2)] = LOCKED
         conn.seam_edge = seam_edge
     else:
         conn.seam_edge = np.zeros(len(conn.edges), dtype=bool)
@@ -304,6 +355,18 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
 
 
+def _drop_faces(s: State, alive):
+    """Delete the faces not ``alive`` (whole parts): their vertices stop being used."""
+    np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
+    s.F = np.compress(alive, s.F, axis=0)
+    s.face_origin = s.face_origin.compress(alive)
+    if s.wedges is not None:
+        s.wedges.keep_faces(alive)
+    s.conn = topology.build(s.F, len(s.V))
+    s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
+    s.cost_cache = None
+
+
 def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:
     """Compact copy of the current mesh in input units, as one LOD level."""
     used = np.zeros(len(s.V), dtype=bool)
@@ -334,6 +397,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         stop_reason=stop if len(s.F) > target else STOP_TARGET,
         max_error=s.max_error_seen * p.scale,
         welded_vertices=p.welded,
+        relaxation_step=s.guards.step,
+        removed_components=s.removed_components,
     )
     return SimplifyResult(
         vertices=vertices,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import checks
+from .guards import SLIVER_QUALITY
 from .weld import weld_map
 
 
@@ -38,6 +39,10 @@ class Problem:
     preserve_seams: bool
     feature_edges: np.ndarray
     feature_edge_weights: np.ndarray
+    feature_weight: float
+    feature_angle: object  # degrees, or None: no creases found from the geometry
+    min_quality: float
+    remove_small_components: bool
     center: np.ndarray
     scale: float
     input_vertices: int
@@ -51,7 +56,8 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         "max_error", "line_weight", "vertex_weights", "importance", "boundary_weight", "locked",
         "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
         "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
-        "weld_distance", "probabilistic_sigma",
+        "weld_distance", "probabilistic_sigma", "feature_angle", "min_quality",
+        "remove_small_components",
     }
     unknown = set(options) - known
     if unknown:
@@ -91,9 +97,19 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         if name not in cattrs or cattrs[name].shape[2] != 2:
             raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
     fe = checks.edge_list(o.get("feature_edges") if o.get("feature_edges") is not None else [], n, "feature_edges")
+    feature_weight = checks.non_negative(o.get("feature_weight", 1.0), "feature_weight")
+    feature_angle = o.get("feature_angle")
+    if feature_angle is not None:
+        feature_angle = checks.non_negative(feature_angle, "feature_angle")
+        if feature_angle >= 180:
+            raise ValueError(f"feature_angle is in degrees and must be below 180, got {feature_angle}")
+        feature_angle = feature_angle or None  # 0 turns it off, like None
+    min_quality = checks.non_negative(o.get("min_quality", SLIVER_QUALITY), "min_quality")
+    if min_quality > 1:
+        raise ValueError(f"min_quality is a triangle quality in [0, 1], got {min_quality}")
     ew = o.get("edge_weights")
     if ew is None:
-        few = np.full(len(fe), checks.non_negative(o.get("feature_weight", 1.0), "feature_weight"))
+        few = np.full(len(fe), feature_weight)
     else:
         few = np.asarray(ew, dtype=np.float64)
         if few.shape != (len(fe),):
@@ -163,6 +179,10 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         preserve_seams=bool(o.get("preserve_seams", True)),
         feature_edges=rep[fe] if len(fe) else fe,
         feature_edge_weights=few,
+        feature_weight=feature_weight,
+        feature_angle=feature_angle,
+        min_quality=min_quality,
+        remove_small_components=bool(o.get("remove_small_components", False)),
         center=center,
         scale=scale,
         input_vertices=n,

@@ -8,7 +8,18 @@ import numpy as np
 # Why a run stopped (``SimplifyStats.stop_reason``).
 STOP_TARGET = "target_reached"
 STOP_MAX_ERROR = "max_error_reached"
-STOP_NO_COLLAPSE = "no_valid_collapse"
+# No collapse is possible even with every quality rule relaxed (core.guards): closed
+# parts, holes, non-manifold edges and locked vertices allow no fewer triangles.
+STOP_TOPOLOGY = "topology_limit"
+
+# The stop reasons in words, for reports to artists.
+STOP_REASON_TEXT = {
+    STOP_TARGET: "target reached",
+    STOP_MAX_ERROR: "the maximum error allows no further collapse",
+    STOP_TOPOLOGY: ("the mesh's topology allows no fewer triangles (each closed part needs at "
+                    "least four, each open one at least one; non-manifold edges, holes, locked "
+                    "vertices and separate parts keep theirs)"),
+}
 
 
 class SimplifyCancelled(Exception):
@@ -29,6 +40,8 @@ class SimplifyStats:
     stop_reason: str
     max_error: float = 0.0  # largest RMS quadric distance of an accepted collapse (mesh units)
     welded_vertices: int = 0  # coincident input vertices merged before simplifying
+    relaxation_step: int = 0  # core.guards ladder step the run ended at (0: no rule relaxed)
+    removed_components: int = 0  # whole parts removed (remove_small_components)
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)

@@ -5,6 +5,7 @@ from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
+from .guards import SLIVER_QUALITY
 from .result import SimplifyResult
 from . import engine, prepare
 
@@ -33,6 +34,9 @@ def simplify(
     edge_weights=None,
     weld_distance: Optional[float] = None,
     probabilistic_sigma: float = 0.0,
+    feature_angle: Optional[float] = None,
+    min_quality: float = SLIVER_QUALITY,
+    remove_small_components: bool = False,
 ) -> SimplifyResult:
     """Simplify a triangle mesh by edge collapse under quadric + line-quadric error.
 
@@ -52,6 +56,16 @@ def simplify(
       locked: (n,) bool, vertices that never move and are never removed.
       feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)
         weighted by ``feature_weight`` or by per-edge ``edge_weights`` (k,).
+      feature_angle: degrees in [0, 180), or None/0 (off): interior edges whose faces'
+        normals differ by more than this are creases, kept softly like ``feature_edges``
+        (weighted by ``feature_weight``), and vertices where three or more creases or
+        feature edges meet (corners) never move.
+      min_quality: in [0, 1], the triangle quality (4 sqrt(3) area / sum of squared edges;
+        1 for equilateral) below which no collapse may turn a face (0.3 by default, 0 turns
+        the rule off): lower it for closer hard-surface shapes at the cost of slivers.
+      remove_small_components: when no collapse is possible short of the target, delete
+        whole parts, smallest area first (never the largest, never one with a locked
+        vertex), instead of stopping above the target.
       probabilistic_sigma: >= 0, the alternative regulariser the paper compares with
         (Trettner & Kobbelt 2020): the standard deviation of isotropic noise on the unit
         face normals (dimensionless; sigma^2 plays the part of w). 0 (default) leaves it
@@ -66,6 +80,11 @@ def simplify(
       uv_attributes: names among corner_attributes (k = 2) whose triangles must not flip.
       weld_distance: weld vertices closer than this before simplifying (split vertices of
         exported assets); None welds only exactly coincident ones, a negative value none.
+
+    Stopping: when no collapse passes the quality rules (normal turn, slivers, seams, UV
+    area and flips), they relax step by step for the remaining collapses (core.guards),
+    so every target the topology allows is reached; ``stats.stop_reason`` is
+    ``"topology_limit"`` when even the loosest step cannot go on.
 
     progress(fraction) is called once per pass; returning False raises SimplifyCancelled.
     The same input and seed give bit-identical output.
@@ -92,6 +111,9 @@ def simplify(
         edge_weights=edge_weights,
         weld_distance=weld_distance,
         probabilistic_sigma=probabilistic_sigma,
+        feature_angle=feature_angle,
+        min_quality=min_quality,
+        remove_small_components=remove_small_components,
     )[0]
 
 

@@ -7,10 +7,11 @@ Checked in bulk over the corners around both ends of every chosen edge:
   corners);
 - no vertex loses its last face (the kept end, or a corner opposite the edge), so no
   part of the mesh disappears, and no locked vertex with it;
-- no face turns over (new.old normal below MIN_NORMAL_COSINE, or facing away from
-  the input face it descends from) or collapses to zero area,
-  and none becomes a sliver (quality below SLIVER_GUARD) worse than it was;
+- no face turns over (new.old normal below the step's min_normal_cosine, or facing away
+  from the input face it descends from) or collapses to zero area,
+  and none becomes a sliver (quality below the step's min_quality) worse than it was;
 - no UV triangle flips (delegated to the wedges, when corner data is carried).
+core.guards states every rule and which of them relax (the thresholds in ``s.guards``).
 """
 from __future__ import annotations
 
@@ -18,10 +19,10 @@ import numpy as np
 
 from . import topology
 from .geometry import cross, rows
+from .guards import SLIVER_QUALITY, relaxation_ladder
 
-MIN_NORMAL_COSINE = 0.2
+STRICT = relaxation_ladder()[0]
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
-SLIVER_GUARD = 0.3  # triangle quality below which a face counts as a sliver
 SLIVER_SLACK = 0.5
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
@@ -62,23 +63,27 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
 
     source = rows(s.source_normals, s.face_origin[faces])
+    guards = s.guards
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
-                        dying, collapse, c, source)
+                        dying, collapse, c, source, guards.min_normal_cosine, guards.min_quality)
     ok &= np.bincount(collapse[bad], minlength=c) == 0
 
     if s.wedges is not None:
-        ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c)
+        ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
+                                guards.min_uv_area_kept, guards.uv_flip)
     return ok
 
 
-def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source) -> np.ndarray:
+def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
+                  min_normal_cosine=STRICT.min_normal_cosine, min_quality=SLIVER_QUALITY) -> np.ndarray:
     """(k,) bool: the corners whose face would turn over, vanish or become a sliver.
 
     One row per face corner around the ends of ``c`` collapses: p_a (k, 3) the moving
     corner, p_b and p_c (k, 3) the face's next and previous corners (which stay put), x
     (k, 3) the new position of its collapse, dying (k,) faces on the collapsed edge (never
     bad), collapse (k,) which collapse the corner belongs to, source (k, 3) the unit normal
-    of the input face its face descends from.
+    of the input face its face descends from. min_normal_cosine and min_quality: the
+    relaxable rules' thresholds (core.guards).
     """
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
     # the face's own cyclic order.
@@ -88,7 +93,10 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source) -> np.ndarray:
     len_old = np.sqrt(np.einsum("ij,ij->i", n_old, n_old))
     len_new = np.sqrt(np.einsum("ij,ij->i", n_new, n_new))
     dot = np.einsum("ij,ij->i", n_old, n_new)
-    bad = ~dying & ((dot < MIN_NORMAL_COSINE * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    # Rules normal_turn and no_turn_over (a negative cosine is never allowed), and
+    # no_degenerate_face.
+    min_cosine = max(min_normal_cosine, 0.0)
+    bad = ~dying & ((dot < min_cosine * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
     # Nor may a face end up facing against a nearly flat surface around the collapse (a
     # fold-over that each single turn allowed). Only where the rings' normals agree: at
     # tips and sharp ridges their sum means little.
@@ -99,13 +107,14 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source) -> np.ndarray:
     # Small turns add up over passes: no face may end up facing away from the input face
     # it descends from.
     bad |= ~dying & (np.einsum("ij,ij->i", n_new, source) < 0)
-    # Never turn a face into a sliver: the output's worst triangles stay up. A face that
-    # already is one may get somewhat worse (not below half its quality), or the
-    # slivers of the input would freeze their whole neighbourhood.
-    bc = np.einsum("ij,ij->i", p_c - p_b, p_c - p_b)
-    q_new = _quality(len_new, ab_new, ac_new, bc)
-    q_old = _quality(len_old, ab_old, ac_old, bc)
-    bad |= ~dying & (q_new < SLIVER_GUARD) & ((q_old >= SLIVER_GUARD) | (q_new < SLIVER_SLACK * q_old))
+    # Rule sliver: never turn a face into a sliver, so the output's worst triangles stay
+    # up. A face that already is one may get somewhat worse (not below half its
+    # quality), or the slivers of the input would freeze their whole neighbourhood.
+    if min_quality > 0:
+        bc = np.einsum("ij,ij->i", p_c - p_b, p_c - p_b)
+        q_new = _quality(len_new, ab_new, ac_new, bc)
+        q_old = _quality(len_old, ab_old, ac_old, bc)
+        bad |= ~dying & (q_new < min_quality) & ((q_old >= min_quality) | (q_new < SLIVER_SLACK * q_old))
     return bad
 
 

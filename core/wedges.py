@@ -15,7 +15,6 @@ from . import topology
 from .geometry import edge_parameter
 
 MIN_UV_DOUBLE_AREA = 1e-18
-MIN_UV_AREA_KEPT = 0.05  # a UV triangle may not shrink below this share of its area
 WEDGE_TOLERANCE = 1e-6  # relative to each column's span (at least 1)
 
 
@@ -97,10 +96,13 @@ class Wedges:
         v = self.values[self.corner_wedge]
         return {name: v[:, :, c:c + w].copy() for name, (c, w) in self.layout.items()}
 
-    def valid_uv(self, faces, conn, edges, keep, remove, pos, V, around_faces, collapse, dying, c):
-        """(c,) bool: collapses that leave every UV triangle around them unflipped."""
+    def valid_uv(self, faces, conn, edges, keep, remove, pos, V, around_faces, collapse, dying, c,
+                 min_area_kept, no_flip=True):
+        """(c,) bool: collapses that leave every UV triangle around them unflipped (when
+        no_flip) and with at least ``min_area_kept`` of its UV area (core.guards rules
+        uv_flip and uv_area)."""
         ok = np.ones(c, dtype=bool)
-        if not self.uv_columns:
+        if not self.uv_columns or not no_flip and min_area_kept <= 0:
             return ok
         t = edge_parameter(V[keep], V[remove], pos)
         wk, wr, tt, _ = self._pairs(faces, conn, edges, keep, remove, t)
@@ -119,7 +121,7 @@ class Wedges:
             a_new = _signed_double_area(uv_new)
             # Flipped, or squashed to a sliver of texture space (positive but collapsed).
             flipped = (np.abs(a_old) > MIN_UV_DOUBLE_AREA) & (
-                (a_old * a_new <= 0) | (np.abs(a_new) < MIN_UV_AREA_KEPT * np.abs(a_old))
+                ((a_old * a_new <= 0) & no_flip) | (np.abs(a_new) < min_area_kept * np.abs(a_old))
             )
             bad = ~dying & flipped
             ok &= np.bincount(collapse[bad], minlength=c) == 0

@@ -403,7 +403,7 @@ def assert_target_respected(r, target):
     if r.stats.stop_reason == "target_reached":
         assert target - 1 <= m <= target, (m, target)
     else:
-        assert r.stats.stop_reason in ("no_valid_collapse", "max_error_reached")
+        assert r.stats.stop_reason in ("topology_limit", "max_error_reached")
         assert m > target, (m, target, r.stats.stop_reason)
 
 

@@ -8,6 +8,11 @@ from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
 import core
 import meshgen as mg
+from core.guards import relaxation_ladder
+
+# The first relaxation steps (core.guards) at which seam ends slide, and seams are free.
+SEAM_ENDS_SLIDE = min(t.step for t in relaxation_ladder() if t.seams != "kept")
+SEAMS_FREE = min(t.step for t in relaxation_ladder() if t.seams == "free")
 
 
 def _simplify_uv(V, F, UV, ratio=0.2, **kw):
@@ -113,10 +118,11 @@ def test_seams_survive_as_continuous_polylines(name):
     r = _simplify_uv(V, F, UV)
     mg.assert_valid_result(r, V, F)
     assert len(mg.boundary_edges(r.faces)) == 0, "closed input got a boundary"
-    if name != "sphere_fan_poles":  # every pole-ring vertex there is a locked seam end
-        assert r.stats.stop_reason == "target_reached"
-    # The sphere's meridian seams may end as chords of up to 90 degrees (sagitta 0.2 of
-    # the chord): its pole rings are locked, so the meridians take the coarsening.
+    assert r.stats.stop_reason == "target_reached"
+    # Every pole-ring vertex of the fan-pole sphere is a locked seam end, so the
+    # meridians take the coarsening and may end as chords of up to 90 degrees (sagitta
+    # 0.2 of the chord). The seam rule itself never needed to relax here.
+    assert r.stats.relaxation_step < SEAM_ENDS_SLIDE
     _check_seams(V, F, UV, split, r, chord=0.2 if name == "sphere_fan_poles" else 0.15)
 
 
@@ -124,7 +130,8 @@ def test_seams_survive_as_continuous_polylines(name):
 def test_no_uv_triangle_flips_and_uvs_stay_in_their_island(name):
     V, F, UV, split = UV_MESHES[name]()
     r = _simplify_uv(V, F, UV)
-    _check_uvs(V, F, UV, split, r)
+    if r.stats.relaxation_step < SEAMS_FREE:
+        _check_uvs(V, F, UV, split, r)
 
 
 @st.composite
@@ -154,8 +161,12 @@ def test_random_uv_meshes_keep_seams_and_uvs(mesh, ratio, w, seed):
     mg.assert_valid_result(r, V, F)
     mg.assert_target_respected(r, target)
     assert len(mg.boundary_edges(r.faces)) == 0
-    _check_seams(V, F, UV, split, r, chord=0.5)
-    _check_uvs(V, F, UV, split, r)
+    # The seam and UV promises hold as long as the run did not need to relax their rules
+    # to reach the target (core.guards).
+    if r.stats.relaxation_step < SEAM_ENDS_SLIDE:
+        _check_seams(V, F, UV, split, r, chord=0.5)
+    if r.stats.relaxation_step < SEAMS_FREE:
+        _check_uvs(V, F, UV, split, r)
 
 
 @pytest.mark.parametrize("split", [False, True])
@@ -196,10 +207,11 @@ def test_split_cube_welds_and_simplifies_as_a_closed_shape():
     r = core.simplify(V, F, ratio=0.5)
     assert r.stats.welded_vertices == 16 and r.stats.stop_reason == "target_reached"
     assert len(r.faces) == 6 and len(mg.boundary_edges(r.faces)) == 0 and mg.euler_characteristic(r.faces) == 2
-    # With its UVs every corner is a seam junction (three seams meet) and stays: nothing
-    # can collapse, and the stats say so.
+    # With its UVs every corner is a seam junction (three seams meet): kept, nothing
+    # could collapse, so the seam rule relaxes and the target is reached all the same.
     r = _simplify_uv(V, F, UV, ratio=0.5)
-    assert len(r.faces) == 12 and r.stats.stop_reason == "no_valid_collapse"
+    assert len(r.faces) == 6 and r.stats.stop_reason == "target_reached"
+    assert r.stats.relaxation_step >= SEAM_ENDS_SLIDE and mg.euler_characteristic(r.faces) == 2
     # Subdivided split cube: welded, simplified closed, seams kept.
     V, F, UV = mg.cube(6, split=True)
     r = _simplify_uv(V, F, UV)

@@ -1,0 +1,51 @@
+"""Whole parts of a mesh (connected components) and which of them a target can spare.
+
+Edge collapse never deletes a part (rule no_bare_vertex in core.guards): a bolt, a leaf
+card or a piece of debris keeps at least one triangle, a closed one four. At the far
+LODs of a game asset engines prefer such parts gone rather than left as shapeless
+fragments, so with ``remove_small_components`` the engine, once no collapse is possible,
+drops the smallest parts instead.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import face_frames
+from .topology import connected_labels
+
+
+def face_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(m,) int64: a label per face, equal for faces of one part (sharing vertices)."""
+    if len(faces) == 0:
+        return np.zeros(0, dtype=np.int64)
+    vertex_label = connected_labels(n_vertices, np.r_[faces[:, 0], faces[:, 1]], np.r_[faces[:, 1], faces[:, 2]])
+    return vertex_label[faces[:, 0]]
+
+
+def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int):
+    """(m,) bool of the faces to delete, or None when no part can go.
+
+    Parts go smallest surface area first, as many as it takes to remove ``need`` faces,
+    but the largest part always stays and so does every part with a locked vertex (what
+    the artist locked is never removed).
+    """
+    n = len(vertices)
+    label = face_labels(faces, n)
+    if len(label) == 0 or need <= 0:
+        return None
+    parts, part_of_face = np.unique(label, return_inverse=True)
+    if len(parts) < 2:
+        return None
+    _, area = face_frames(vertices, faces)
+    part_area = np.bincount(part_of_face, weights=area, minlength=len(parts))
+    part_faces = np.bincount(part_of_face, minlength=len(parts))
+    has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=len(parts)) > 0
+    order = np.argsort(part_area, kind="stable")
+    spare = order[:-1]  # the largest part stays
+    spare = spare[~has_lock[spare]]
+    if len(spare) == 0:
+        return None
+    upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="left")) + 1
+    drop = np.zeros(len(parts), dtype=bool)
+    drop[spare[:upto]] = True
+    return drop[part_of_face]

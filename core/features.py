@@ -1,0 +1,33 @@
+"""Sharp features found from the geometry: the edges and corners of hard-surface parts.
+
+A CAD part or a bevelled prop carries its shape in a few creases. The face planes alone
+keep them only as long as the collapses around them happen to be cheap in the right
+order; the paper's dihedral-plane quadrics (Sec. 4.4.2, Eq. 18-19) on the crease edges
+hold them softly, and the corners where three or more creases meet (a box corner, a
+fandisk's tip) are kept exactly, since one moved corner bends every crease through it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import face_frames
+from .topology import Connectivity
+
+
+def crease_edges(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
+    """(k,) indices into conn.edges of the interior manifold edges whose two faces' normals
+    differ by more than ``angle_degrees`` (the dihedral angle's supplement, as Blender's
+    Auto Smooth measures it)."""
+    normals, _ = face_frames(vertices, faces)
+    inner = np.flatnonzero(conn.edge_faces == 2)
+    n0 = normals[conn.edge_face0[inner]]
+    n1 = normals[conn.edge_face1[inner]]
+    cosine = np.einsum("ij,ij->i", n0, n1)
+    return inner[cosine < np.cos(np.radians(angle_degrees))]
+
+
+def corners(edges: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(n,) bool: vertices where three or more of ``edges`` (k, 2) meet."""
+    if len(edges) == 0:
+        return np.zeros(n_vertices, dtype=bool)
+    return np.bincount(np.asarray(edges).ravel(), minlength=n_vertices) >= 3
