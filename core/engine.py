@@ -90,6 +90,7 @@ class State:
     ladder: tuple = ()  # core.guards.relaxation_ladder of this run
     guards: object = None  # the ladder step in force
     removed_components: int = 0
+    cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
 
 
 def run(p: Problem) -> list:
@@ -120,6 +121,7 @@ def run(p: Problem) -> list:
         ladder=relaxation_ladder(p.min_quality),
     )
     s.guards = s.ladder[0]
+    s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
 
@@ -179,11 +181,13 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     cand = selection.candidates(s, conn, kind, pass_no)
     if len(cand.edge) == 0:
         return STOP_TOPOLOGY
+    mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
     if max_error_sq is not None:
-        within = cand.cost <= max_error_sq
+        within = mean_sq <= max_error_sq
         if not within.any():
             return STOP_MAX_ERROR
         cand = cand.subset(within)
+        mean_sq = mean_sq[within]
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
@@ -195,7 +199,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         upto = int(np.searchsorted(np.cumsum(conn.edge_faces[cand.edge[chosen]]), need, side="left")) + 1
         chosen = chosen[:upto]
     if len(chosen):
-        s.max_error_seen = max(s.max_error_seen, float(np.sqrt(cand.cost[chosen].max())))
+        s.max_error_seen = max(s.max_error_seen, float(np.sqrt(mean_sq[chosen].max())))
         _apply(s, conn, cand, chosen, pass_no)
     return None
 
@@ -256,7 +260,10 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
         chosen = chosen[ok]
         taken.append(chosen)
         if round_no == 0:
-            eligible &= cand.cost <= max(later_limit, ORDER_FREE_COST)
+            # The raw error of a collapse is its mean squared distance times about two
+            # vertex areas.
+            order_free = ORDER_FREE_COST if s.cost_per_area else ORDER_FREE_COST * 2.0 * s.area_scale
+            eligible &= cand.cost <= max(later_limit, order_free)
         if len(chosen) == 0:
             continue
         faces = s.F if window is None else window[1]

@@ -20,7 +20,11 @@ class Candidates:
     which moves to ``position``. ``cost`` is the quadric error there divided by the area
     the two quadrics stand for: a mean squared distance, comparable between dense and
     coarse regions (the raw area-weighted error would let small, densely tessellated
-    features go first, which is what worst-case distance punishes)."""
+    features go first, which is what worst-case distance punishes). Without line
+    quadrics (w = 0) the cost is the raw error: the paper's fallback to plain
+    Garland-Heckbert, order included, which is what the fidelity end of the controls
+    (line_weight 0, min_quality 0) asks for; measured on fandisk at 10 %, the raw order
+    gives 0.95x Decimate's Hausdorff distance where the per-area order gives 1.57x."""
 
     edge: np.ndarray
     keep: np.ndarray
@@ -91,8 +95,11 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     along_seam = (k_keep == SEAM) & (k_remove == SEAM)
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
+    error = quadrics.evaluate(q, position)
+    if not s.cost_per_area:
+        return position, error
     area = np.maximum(s.area[keep] + s.area[remove], 1e-300)
-    return position, quadrics.evaluate(q, position) / area
+    return position, error / area
 
 
 def _still_rejected(s, edges, a, b) -> np.ndarray:
