@@ -4,28 +4,34 @@
 An artist gives importance as a value g_i in [0, 1] per vertex: a painted vertex group,
 or the skin-derived weight of the paper (Sec. 5.3) divided by its cap 0.1, which is also
 what "Importance from Armature" bakes into the LOD_Importance group so it can be seen
-and repainted. The Strength slider (0..1) then says how much g counts:
+and repainted. The Strength slider (0..1) says how much g counts, in one unit an artist
+can see: how many times denser than the rest a fully painted region comes out.
 
-Soft (paper Eq. 16, the default). Vertex i gets the line-quadric weight
-    w_i = line_weight + strength * 0.1 * g_i.
-Strength 1 gives a fully painted vertex w = 0.1, the largest weight the paper
-recommends before shape fidelity suffers (Sec. 4.2); for an armature that is exactly
-the paper's w_i = min(0.15 (1 - s_i), 0.1). Soft importance keeps a region denser
-through the simplification without freezing it, and never trades away shape.
+How (paper Sec. 4.4.1, extreme weights). Vertex i's whole augmented quadric (planes +
+line quadric) is multiplied by
+    factor_i = F(strength) ** g_i,
+F(0) = 1 (importance off) up to F(1) ~ 1000 (near locking). Scaling the whole quadric,
+not adding line weight, is what gives the slider one meaning on every surface: it
+multiplies the collapse cost by the same factor whether that cost comes from curvature
+(plane error) or, on a flat region, from the small line quadric alone. An added line
+weight (the former "Soft" mode, w_i = 0.001 + 0.1 strength g_i) competes with the plane
+error instead: on a flat region, where the plane error is zero, it raised the cost 100x
+at strength 1 and locked a painted disc (92 % of its vertices kept at 10 %), while on a
+curved sheet the same strength gave a third of that density. Issue 19 has the numbers;
+docs/weight-painting.md has the measured curve.
 
-Strong (paper Sec. 4.4.1, extreme weights). The painted vertices get the small added
-line quadric the paper recommends (0.01 at full paint), then their whole quadric is
-multiplied by
-    1 + importance_i = 1000 ** (strength * g_i).
-The slider is exponential because what an artist sees is density, which follows the
-factor's logarithm: strength 1 makes a fully painted vertex's error count 1000x, 0.5
-makes it 32x, 0 changes nothing, and each step of the slider multiplies the density by
-about the same amount.
+Calibration (measured, not derived): STRENGTH_TO_GAIN is the design, the density gain
+each slider position should give (subtle ~1.5x at 0.1, ~4x at the default 0.5, near
+locking at 1). GAIN_TO_FACTOR is measured by bench/importance_calibration.py --sweep:
+the quadric factor that gives each gain, as the geometric mean over a flat grid and a
+curved sheet with a painted disc taken to 10 % (the two differ by less than 2x up to the
+default). A strength is turned into a gain, then into a factor, by interpolating both
+tables on logarithms (density follows the factor's logarithm, smoothly). Re-run the
+sweep and paste its table when the core's collapse order changes.
 
-What it does, measured: tests/test_addon_importance.py checks that the painted region's
-vertex density rises with strength in both modes while the target is met and the region
-is still simplified (soft, not frozen); docs/figures.md (Fig. 1 and 5) gives the densities
-bench/fig_importance.py measures on a flat grid with a painted disc.
+Density gain = (share of the painted vertices kept) / (share of the rest kept). It
+depends on the target (at 50 % a region can be at most 2x denser) and on how much is
+painted; the calibration is at 10 % with ~10 % of the vertices painted.
 """
 from __future__ import annotations
 
@@ -33,10 +39,18 @@ import numpy as np
 
 from ._core import core
 
-SOFT_MAX_WEIGHT = 0.1  # w of a fully painted vertex at strength 1 (paper's recommended maximum)
-STRONG_LINE_WEIGHT = 0.01  # the paper's "small amount of line quadrics" before scaling
-STRONG_MAX_FACTOR = 1000.0  # error factor of a fully painted vertex at strength 1
+DEFAULT_STRENGTH = 0.5
 SKIN_CAP = core.weights.SKIN_WEIGHT_MAX  # 0.1: skin weights are baked as w / cap in [0, 1]
+# The paper's "small amount of line quadrics" before scaling (Sec. 4.4.1): a flat region
+# needs some error to scale. With Uniformity below this, importance lifts every vertex to
+# it (not only the painted ones, or a painted flat region would be compared with zero).
+LINE_WEIGHT_FLOOR = core.vertex_quadrics.IMPORTANCE_LINE_WEIGHT_FLOOR
+
+# (strength, density gain of a fully painted region): the slider's design.
+STRENGTH_TO_GAIN = ((0.0, 1.0), (0.1, 1.5), (0.25, 2.4), (0.5, 4.5), (0.75, 12.0), (1.0, 90.0))
+# (density gain, quadric factor): measured, bench/importance_calibration.py --sweep.
+GAIN_TO_FACTOR = ((1, 1), (1.42, 1.5), (1.82, 2), (2.4, 3), (2.99, 4), (4, 6), (4.81, 8), (7.31, 12), (8.35, 16),
+                  (10.8, 24), (14.55, 32), (28.55, 64), (43.67, 128), (61, 256), (95.25, 1000))
 
 
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
@@ -44,18 +58,38 @@ def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
     return core.importance_from_skin_weights(skin_weights) / SKIN_CAP
 
 
-def controls(g: np.ndarray, line_weight: float, strength: float, mode: str) -> dict:
-    """Core keyword arguments (vertex_weights, importance) for importance g in [0, 1].
+def _log_interp(x: float, table) -> float:
+    xs, ys = np.log(np.array(table, dtype=np.float64)).T
+    return float(np.exp(np.interp(np.log(x), xs, ys)))
 
-    mode: 'SOFT' or 'STRONG' (see the module docstring for what strength means).
+
+def expected_gain(strength: float) -> float:
+    """How many times denser than the rest a fully painted region should come out (at 10 %)."""
+    s, gain = np.array(STRENGTH_TO_GAIN, dtype=np.float64).T
+    # Linear in log(gain) between the design's points: each step of the slider
+    # multiplies the density alike within a segment.
+    return float(np.exp(np.interp(float(strength), s, np.log(gain))))
+
+
+def factor(strength: float) -> float:
+    """Quadric factor of a fully painted vertex (g = 1) at ``strength``."""
+    return _log_interp(expected_gain(strength), GAIN_TO_FACTOR)
+
+
+def effective(g: np.ndarray, strength: float) -> np.ndarray:
+    """Per-vertex effective importance in [0, 1]: log(factor_i) / log(factor at strength 1).
+
+    What "Preview Importance" shows in Weight Paint: 0 = simplified like the rest, 1 =
+    the slider's top (near locking). Half-way means half the top's factor, in logarithm.
     """
     g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
-    s = float(strength)
-    if mode == 'SOFT':
-        return {"vertex_weights": line_weight + s * SOFT_MAX_WEIGHT * g}
-    if mode == 'STRONG':
-        return {
-            "vertex_weights": line_weight + (STRONG_LINE_WEIGHT if s > 0 else 0.0) * g,
-            "importance": np.power(STRONG_MAX_FACTOR, s * g) - 1.0,
-        }
-    raise ValueError(f"importance mode must be 'SOFT' or 'STRONG', got {mode!r}")
+    return g * (np.log(factor(strength)) / np.log(factor(1.0)))
+
+
+def controls(g: np.ndarray, line_weight: float, strength: float) -> dict:
+    """Core keyword arguments (importance, maybe vertex_weights) for importance g in [0, 1]."""
+    g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
+    out = {"importance": np.power(factor(strength), g) - 1.0}
+    if line_weight < LINE_WEIGHT_FLOOR and np.any(out["importance"] > 0):
+        out["vertex_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
+    return out

@@ -33,6 +33,7 @@ from .settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part o
 
 SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
 LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
+PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
 DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
 
 
@@ -45,6 +46,7 @@ class LodInput:
     core_options: dict
     names: dict  # attribute keys given to the core -> what they stand for
     warnings: list = field(default_factory=list)
+    importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
 
 
 @dataclass
@@ -165,7 +167,7 @@ def _core_options(obj, settings, data, g) -> tuple:
         options["feature_edges"] = feature_edges
         options["edge_weights"] = edge_weights
     if g is not None:
-        options.update(imp.controls(g, settings.line_weight, settings.importance_strength, settings.importance_mode))
+        options.update(imp.controls(g, settings.line_weight, settings.importance_strength))
     return options, names
 
 
@@ -186,7 +188,47 @@ def prepare(context_or_scene, source, settings: LodSettings) -> LodInput:
     targets = settings.targets(len(data.faces))
     g = _importance(source, settings, data)
     options, names = _core_options(source, settings, data, g)
-    return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings)
+    return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
+                    importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g))
+
+
+def importance_preview(obj, settings: LodSettings) -> tuple:
+    """The effective importance of ``obj``'s vertices in [0, 1] (addon/importance.py,
+    ``effective``) under ``settings``, read from the object's own mesh (not the modifier
+    result, so it can be written back as a vertex group), and how many vertices count as
+    painted (g >= 0.5). Raises LodError when the settings name no importance."""
+    if obj is None or getattr(obj, "type", None) != 'MESH':
+        raise LodError("Make a mesh object active")
+    names = vertex_groups.group_names(obj.data)
+    if settings.importance_source == 'VERTEX_GROUP':
+        name = settings.importance_group
+        if not name or name not in names:
+            raise LodError(f'"{obj.name}" has no vertex group "{name}"' if name else
+                           "importance source is Vertex Group but no group is chosen")
+        g = vertex_groups.read_weights(obj.data, [name])[:, 0]
+    elif settings.importance_source == 'ARMATURE':
+        g = skin_importance_of(obj, names, vertex_groups.read_weights(obj.data, names))
+    else:
+        raise LodError("Importance source is None: choose a vertex group or the armature first")
+    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
+
+
+def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dict]:
+    """How dense the painted region (g >= 0.5) came out against the rest: the share of
+    each kept and their ratio, the density in/out relative to the input's (on a uniform
+    mesh simply the painted region's vertex density over the rest's). None when nothing
+    or everything is painted."""
+    painted = np.asarray(g) >= PAINTED
+    n_in = int(np.count_nonzero(painted))
+    n_out = len(painted) - n_in
+    if n_in == 0 or n_out == 0:
+        return None
+    kept_in = int(np.count_nonzero(painted[vertex_origin]))
+    kept_out = len(vertex_origin) - kept_in
+    share_in, share_out = kept_in / n_in, kept_out / n_out
+    return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
+            "rest_kept_percent": 100.0 * share_out,
+            "painted_density": share_in / share_out if share_out > 0 else float("inf")}
 
 
 # ----------------------------------------------------------------------------- compute
@@ -293,6 +335,10 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
                 "hausdorff_percent", "mean_percent", "mean_quality", "min_quality", "sliver_percent")})
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
+        if lod_input.importance is not None:
+            density = importance_density(lod_input.importance, result.vertex_origin)
+            if density is not None:
+                entry["importance"] = density
         if stats.stop_reason != core.STOP_TARGET:
             lod_input.warnings.append(
                 f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {stats.stop_reason}")
@@ -437,7 +483,8 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
     {object, collection, source_triangles, source_vertices, seconds, warnings,
      levels: [{level, name, target, triangles, vertices, seconds, stop_reason,
                hausdorff_percent, mean_percent (if measured), mean_quality,
-               min_quality, sliver_percent}]}.
+               min_quality, sliver_percent, importance (with importance on: painted_vertices,
+               painted_kept, painted_kept_percent, rest_kept_percent, painted_density)}]}.
     Raises LodError (bad input) or LodCancelled (progress returned False); in both
     cases the scene is unchanged.
     """

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The add-on's operators: Generate LODs, Paint Importance, Importance from Armature.
+"""The add-on's operators: Generate LODs, Paint Importance, Importance from Armature,
+Preview Importance.
 
 Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
 a Python traceback; unexpected errors are printed to the console for bug reports.
@@ -14,11 +15,13 @@ import numpy as np
 import bpy
 
 from . import lod, vertex_groups
+from .importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
 from .props import settings_properties
 
 IMPORTANCE_GROUP = "LOD_Importance"
+PREVIEW_GROUP = "LOD_Importance_Preview"
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',
@@ -50,7 +53,11 @@ def _summary(reports) -> str:
     parts = []
     for rep in reports:
         counts = " / ".join(f"{lv['triangles']:,}" for lv in rep["levels"])
-        parts.append(f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) in {rep['seconds']:.1f} s")
+        text = f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) in {rep['seconds']:.1f} s"
+        density = [lv["importance"]["painted_density"] for lv in rep["levels"] if "importance" in lv]
+        if density:
+            text += ", painted region " + " / ".join(f"{d:.1f}x" for d in density) + " as dense as the rest"
+        parts.append(text)
     return "; ".join(parts)
 
 
@@ -276,8 +283,47 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
         return {'FINISHED'}
 
 
+class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.types.Operator):
+    """Show what the Importance settings will do: writes each vertex's effective importance (0 = simplified like the rest, 1 = the slider's top, nearly locked) into the vertex group "LOD_Importance_Preview" and shows it in Weight Paint mode"""
+
+    bl_idname = "object.line_quadric_lod_preview_importance"
+    bl_label = "Preview Importance"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    def execute(self, context):
+        if self.report_blocker(context):
+            return {'CANCELLED'}
+        ob = context.active_object
+        settings = scene_settings(context)
+        settings = LodSettings.from_properties(settings) if settings is not None else LodSettings()
+        try:
+            effective, painted = lod.importance_preview(ob, settings)
+            vertex_groups.write_weights(ob, [PREVIEW_GROUP], effective[:, None])
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except Exception as ex:
+            traceback.print_exc()
+            self.report({'ERROR'}, f"Preview Importance failed ({type(ex).__name__}: {ex})")
+            return {'CANCELLED'}
+        # Shown, not selected for the LODs: the panel keeps reading the painted group.
+        ob.vertex_groups.active_index = ob.vertex_groups[PREVIEW_GROUP].index
+        if ob.mode != 'WEIGHT_PAINT':
+            try:
+                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            except RuntimeError as ex:
+                self.report({'WARNING'}, f'"{PREVIEW_GROUP}" written; Weight Paint mode failed: {ex}')
+                return {'FINISHED'}
+        self.report({'INFO'}, f'"{PREVIEW_GROUP}": {painted:,} of {len(effective):,} vertices painted; at strength '
+                              f'{settings.importance_strength:.2f} they should come out about '
+                              f'{expected_gain(settings.importance_strength):.1f}x as dense as the rest '
+                              f'(preview only: paint "{settings.importance_group or IMPORTANCE_GROUP}")')
+        return {'FINISHED'}
+
+
 classes = (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_paint,
     OBJECT_OT_line_quadric_lod_from_armature,
+    OBJECT_OT_line_quadric_lod_preview_importance,
 )

@@ -6,10 +6,12 @@ from __future__ import annotations
 import bpy
 
 from .settings import LodSettings
+from .importance import expected_gain
 from .operators import (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_preview_importance,
 )
 
 _PRESERVE = (
@@ -69,12 +71,15 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
             else:
                 box.prop(settings, "importance_group", text="Group")
         if settings.importance_source != 'NONE':
-            row = box.row(align=True)
-            row.prop(settings, "importance_mode", expand=True)
             box.prop(settings, "importance_strength")
+            # What the strength buys, from the calibration (addon/importance.py).
+            box.label(text=f"Importance 1: about {expected_gain(settings.importance_strength):.1f}x "
+                           f"as dense as the rest")
         row = box.row(align=True)
         row.operator(OBJECT_OT_line_quadric_lod_paint.bl_idname, icon='BRUSH_DATA')
         row.operator(OBJECT_OT_line_quadric_lod_from_armature.bl_idname, icon='ARMATURE_DATA')
+        if settings.importance_source != 'NONE':
+            box.operator(OBJECT_OT_line_quadric_lod_preview_importance.bl_idname, icon='HIDE_OFF')
 
         box = layout.box()
         box.label(text="Preserve", icon='LOCKED')
@@ -115,6 +120,12 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                 grid.label(text=f"{level['hausdorff_percent']:.3f}" if "hausdorff_percent" in level else "-")
                 grid.label(text=f"{level['mean_percent']:.4f}" if "mean_percent" in level else "-")
                 grid.label(text=f"{level['mean_quality']:.2f}")
+            for level in rep["levels"]:
+                if "importance" in level:
+                    imp = level["importance"]
+                    box.label(text=f"LOD{level['level']}: painted region kept {imp['painted_kept_percent']:.0f} %, "
+                                   f"the rest {imp['rest_kept_percent']:.0f} % "
+                                   f"({imp['painted_density']:.1f}x as dense)")
             for warning in rep.get("warnings", []):
                 box.label(text=warning, icon='ERROR')
 

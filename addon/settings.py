@@ -28,7 +28,9 @@ class LodSettings:
     line_weight: float = 1e-3
     importance_source: str = 'NONE'
     importance_group: str = ""
-    importance_strength: float = 1.0
+    importance_strength: float = 0.5  # the calibrated default (addon/importance.py)
+    # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
+    # scripts, files and the command line's --mode keep working.
     importance_mode: str = 'SOFT'
     preserve_boundaries: bool = True
     boundary_strength: float = 1.0

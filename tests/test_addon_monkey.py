@@ -487,7 +487,9 @@ def test_panel_draws_in_every_state(res):
             "preserve_boundaries", "preserve_seams", "preserve_sharp", "preserve_materials",
             "boundary_strength", "seam_strength", "sharp_strength", "material_strength"} <= props
     assert ["prop_search", "importance_group"] in draws["VERTEX_GROUP"]
-    assert {"importance_strength", "importance_mode"} <= {x[1] for x in draws["ARMATURE"] if x[0] == "prop"}
+    armature_props = {x[1] for x in draws["ARMATURE"] if x[0] == "prop"}
+    assert "importance_strength" in armature_props and "importance_mode" not in armature_props  # one mode
+    assert "object.line_quadric_lod_preview_importance" in [x[1] for x in draws["ARMATURE"] if x[0] == "operator"]
     assert any("has no group" in x[1] for x in draws["missing_group"] if x[0] == "label")
     # The last run's report is shown: one row per LOD.
     assert ["label", "LOD2"] in draws["NONE"]
@@ -517,7 +519,7 @@ def test_panel_recording_names_values_and_greys_out(res):
     assert ["label", None, "LOD1..3: 50% · 25% · 12.5%", None, True] in items["NONE"]
     group = {i[1]: i[2:4] for i in items["VERTEX_GROUP"] if i[0] in ("prop", "prop_search")}
     assert group["importance_group"] == ["Group", "Top"]
-    assert group["importance_mode"] == ["Mode", "Soft"] and group["importance_strength"] == ["Strength", "1.00"]
+    assert "importance_mode" not in group and group["importance_strength"] == ["Strength", "0.50"]
     # Triangles > 0 greys out the Ratio, an option that is off greys out its strength.
     assert sorted(i[1] for i in items["greyed"] if not i[4]) == ["ratio", "seam_strength"]
     assert ["label", None, "LOD1..3: 20,000 · 10,000 · 5,000 triangles", None, True] in items["greyed"]

@@ -57,22 +57,42 @@ def test_mark_edges():
     assert edges.mark_edges(mesh_edges, np.empty((0, 2)), 3).tolist() == [False] * 3
 
 
-def test_soft_importance_strength_one_is_the_papers_maximum():
+def test_importance_scales_the_quadric_by_a_rising_factor():
     g = np.array([0.0, 0.5, 1.0])
-    c = importance.controls(g, 1e-3, 1.0, 'SOFT')
-    assert np.allclose(c["vertex_weights"], [1e-3, 1e-3 + 0.05, 1e-3 + 0.1])
-    assert "importance" not in c
-    assert np.allclose(importance.controls(g, 1e-3, 0.0, 'SOFT')["vertex_weights"], 1e-3)
+    factors = [1.0 + importance.controls(g, 1e-3, s)["importance"] for s in (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)]
+    assert np.allclose(factors[0], 1.0)  # strength 0: importance off
+    assert all(f[0] == 1.0 for f in factors)  # unpainted vertices are never scaled
+    top = [f[2] for f in factors]
+    assert all(b > a for a, b in zip(top, top[1:])), top
+    assert 500 < top[-1] <= 1000  # the slider's top: the paper's extreme factor (Sec. 4.4.1)
+    # A half-painted vertex gets the geometric mean: half the effect in the log-factor.
+    assert all(np.isclose(f[1], np.sqrt(f[2])) for f in factors)
+    # With the default line weight the line quadric is left as it is: only the scale acts.
+    assert "vertex_weights" not in importance.controls(g, 1e-3, 0.5)
 
 
-def test_strong_importance_is_exponential_in_strength():
-    g = np.array([0.0, 1.0])
-    at = {s: importance.controls(g, 1e-3, s, 'STRONG')["importance"] for s in (0.0, 0.5, 1.0)}
-    assert np.allclose(at[0.0], 0.0)
-    assert np.isclose(at[1.0][1], 999.0)
-    assert np.isclose(1 + at[0.5][1], np.sqrt(1000.0))  # equal steps multiply alike
-    assert at[1.0][0] == 0.0  # unpainted vertices are never scaled
-    assert np.allclose(importance.controls(g, 1e-3, 0.0, 'STRONG')["vertex_weights"], 1e-3)
+def test_importance_lifts_a_zero_line_weight_everywhere():
+    # Sec. 4.4.1: scaling needs some line quadric on flat regions; giving it to every
+    # vertex (not only the painted ones) keeps painted and unpainted comparable.
+    c = importance.controls(np.array([0.0, 1.0]), 0.0, 0.5)
+    assert np.allclose(c["vertex_weights"], importance.LINE_WEIGHT_FLOOR)
+    assert "vertex_weights" not in importance.controls(np.array([0.0, 1.0]), 0.0, 0.0)
+
+
+def test_expected_gain_and_preview_follow_the_slider():
+    s = np.linspace(0.0, 1.0, 21)
+    gain = [importance.expected_gain(x) for x in s]
+    assert gain[0] == 1.0 and all(b > a for a, b in zip(gain, gain[1:]))
+    assert np.isclose(importance.expected_gain(importance.DEFAULT_STRENGTH), 4.5)
+    g = np.array([0.0, 0.5, 1.0])
+    assert np.allclose(importance.effective(g, 1.0), [0.0, 0.5, 1.0])
+    assert np.allclose(importance.effective(g, 0.0), 0.0)
+    mid = importance.effective(g, 0.5)
+    assert 0.0 < mid[2] < 1.0 and np.isclose(mid[1], mid[2] / 2)
+
+
+def test_settings_default_strength_is_the_calibrated_default():
+    assert LodSettings().importance_strength == importance.DEFAULT_STRENGTH
 
 
 def test_skin_importance_is_the_papers_formula_over_its_cap():

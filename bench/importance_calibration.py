@@ -1,0 +1,184 @@
+"""Calibration of the Importance Strength slider (issue 19): density against strength.
+
+    .venv/bin/python bench/importance_calibration.py [--sweep] [--no-ogre]
+        ->  docs/images/importance_calibration.png and the tables of docs/weight-painting.md
+
+Painted importance scales the whole augmented quadric of a vertex by a factor (paper Sec.
+4.4.1). What an artist sees is vertex density, so the slider is calibrated on it:
+
+  --sweep  measures the density gain each factor gives (core.simplify, ratio 0.1) on
+           the two calibration surfaces below and prints GAIN_TO_FACTOR, the table
+           addon/importance.py interpolates (paste it there after a change to the core);
+  always   runs the add-on's own mapping (addon.importance.controls) at the slider's
+           strengths on both surfaces and prints the curve that docs/weight-painting.md
+           shows, then (unless --no-ogre, or the mesh is absent) the default strength on
+           a real mesh: ogre.obj with the 15 % of its vertices nearest its top painted.
+
+Calibration surfaces: the issue's setup, a 120 x 120 grid on [-1, 1]^2 (14,641 vertices,
+28,800 triangles) with a disc of radius 0.35 at (0.3, 0.2) painted 1 (1,370 vertices),
+flat and as a curved sheet z = 0.08 sin(3 pi x) cos(3 pi y) (three bumps a side, so the
+plane error dominates the line quadric everywhere). Both taken to 10 % (2,880 triangles).
+
+Density in/out = (fraction of the painted vertices kept) / (fraction of the others kept),
+the painted region's vertex density against the rest's relative to the input's (on the
+uniform grid: the density inside the disc over that outside). Density gain = density
+in/out over that of the same surface simplified without importance (0.93 on the flat
+grid, whose preserved border keeps the outside a little denser).
+"""
+from __future__ import annotations
+
+import argparse
+
+import fig_common as fc
+import bpy  # noqa: F401  (imported early: nothing else may load first, see _bootstrap)
+import matplotlib.pyplot as plt
+import numpy as np
+
+import core
+from addon import importance as imp
+from addon import measure
+
+RATIO = 0.1
+CENTER, RADIUS = np.array([0.3, 0.2]), 0.35
+SWEEP_FACTORS = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0, 1000.0)
+STRENGTHS = (0.0, 0.1, 0.25, 0.4, 0.5, 0.6, 0.75, 0.9, 1.0)
+OGRE_SHARE = 0.15  # of the vertices, nearest the top, painted 1
+
+
+def sheet(curved: bool):
+    """The calibration grid (flat or curved) and its painted disc g (0/1 per vertex)."""
+    n = 121
+    xs = np.linspace(-1.0, 1.0, n)
+    X, Y = np.meshgrid(xs, xs, indexing="xy")
+    Z = 0.08 * np.sin(3 * np.pi * X) * np.cos(3 * np.pi * Y) if curved else np.zeros_like(X)
+    V = np.c_[X.ravel(), Y.ravel(), Z.ravel()]
+    r, c = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    a = (r * n + c).ravel()
+    F = np.concatenate([np.c_[a, a + 1, a + n + 1], np.c_[a, a + n + 1, a + n]]).astype(np.int64)
+    g = (np.linalg.norm(V[:, :2] - CENTER, axis=1) < RADIUS).astype(np.float64)
+    return V, F, g
+
+
+def kept(res, g) -> tuple:
+    """(fraction of painted vertices kept, of the others kept, density gain)."""
+    painted = g[res.vertex_origin] >= 0.5
+    n_in = np.count_nonzero(g >= 0.5)
+    n_out = len(g) - n_in
+    k_in, k_out = np.count_nonzero(painted) / n_in, np.count_nonzero(~painted) / n_out
+    return k_in, k_out, k_in / k_out
+
+
+def sweep() -> None:
+    """Density gain of each quadric factor on both surfaces -> GAIN_TO_FACTOR."""
+    rows, base = [], {}
+    for f in SWEEP_FACTORS:  # starts at 1: the unpainted run each gain is relative to
+        gains = []
+        for curved in (False, True):
+            V, F, g = sheet(curved)
+            res = core.simplify(V, F, ratio=RATIO, line_weight=1e-3, importance=(f - 1.0) * g)
+            in_out = kept(res, g)[2]
+            base.setdefault(curved, in_out)
+            gains.append(in_out / base[curved])
+        rows.append((f, *gains, float(np.sqrt(gains[0] * gains[1]))))
+        fc.log(f"factor {f:g}: gain flat {gains[0]:.2f}, curved {gains[1]:.2f}")
+    print("| quadric factor | gain, flat | gain, curved | geometric mean |")
+    print("|---|---|---|---|")
+    for f, a, b, m in rows:
+        print(f"| {f:g} | {a:.2f} | {b:.2f} | {m:.2f} |")
+    # The table addon/importance.py interpolates: strictly rising in the gain, so a
+    # non-monotone measurement (noise of the last collapses) is dropped, not pasted.
+    table, best = [], 0.0
+    for f, _, _, m in rows:
+        if m > best:
+            table.append((round(m, 2), f))
+            best = m
+    print("GAIN_TO_FACTOR = (" + ", ".join(f"({m:g}, {f:g})" for m, f in table) + ")")
+
+
+def curve() -> list:
+    """The add-on's mapping at the slider's strengths on both surfaces."""
+    runs = []
+    for curved in (False, True):
+        V, F, g = sheet(curved)
+        base = kept(core.simplify(V, F, ratio=RATIO, line_weight=1e-3), g)[2]
+        for s in STRENGTHS:
+            res = core.simplify(V, F, ratio=RATIO, **imp.controls(g, 1e-3, s))
+            k_in, k_out, in_out = kept(res, g)
+            runs.append(dict(surface="curved" if curved else "flat", strength=s, triangles=len(res.faces),
+                             target=int(round(RATIO * len(F))), kept_in=k_in, kept_out=k_out, in_out=in_out,
+                             gain=in_out / base, expected=imp.expected_gain(s)))
+    return runs
+
+
+def ogre_check() -> None:
+    """The default strength on a real curved mesh: the painted region's share of vertices
+    kept and its mean distance to the LOD, against the unpainted run at the same count."""
+    path = fc.find_mesh("ogre")
+    if path is None:
+        fc.log("ogre.obj not found in ../shared/meshes: real-mesh check skipped")
+        return
+    from blender_reference import load_mesh
+
+    m = load_mesh(path)
+    V, F = m.vertices, m.faces
+    up = int(np.argmax(np.ptp(V, axis=0)))  # the tall axis (y in the file)
+    top = V[np.argmax(V[:, up])]
+    g = np.zeros(len(V))
+    g[np.argsort(np.linalg.norm(V - top, axis=1))[:int(round(OGRE_SHARE * len(V)))]] = 1.0
+    # Mean distance from the painted region of the input (area samples) to the LOD.
+    region = F[(g[F] > 0).all(axis=1)]
+    points = measure.sample_surface(V, region, 100_000, np.random.default_rng(0))
+    rows = []
+    for label, s in (("no importance", None), ("strength 0.25", 0.25),
+                     (f"default strength {imp.DEFAULT_STRENGTH:g}", imp.DEFAULT_STRENGTH),
+                     ("strength 0.75", 0.75)):
+        opts = {"line_weight": 1e-3} if s is None else imp.controls(g, 1e-3, s)
+        res = core.simplify(V, F, ratio=RATIO, **opts)
+        k_in, k_out, in_out = kept(res, g)
+        tree = measure._build_tree(res.vertices, res.faces)
+        rows.append((label, len(res.faces), int(round(k_in * g.sum())), k_in, in_out,
+                     float(measure._distances(tree, points).mean())))
+    base = rows[0]
+    print(f"\nogre.obj ({len(F):,} triangles) at {RATIO:.0%}, the {int(g.sum()):,} vertices nearest its top painted:")
+    print("| run | triangles | region vertices kept | density gain | region mean distance |")
+    print("|---|---|---|---|---|")
+    for label, tris, n_kept, k_in, gain, dist in rows:
+        print(f"| {label} | {tris:,} | {n_kept:,} ({k_in:.0%}) | {gain / base[4]:.2f}x | "
+              f"{dist / base[5]:.2f}x |")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sweep", action="store_true", help="measure gain per quadric factor (the calibration table)")
+    ap.add_argument("--no-ogre", action="store_true", help="skip the real-mesh check")
+    args = ap.parse_args()
+    if args.sweep:
+        sweep()
+        return
+    runs = curve()
+    print("| strength | expected gain | flat: in/out | gain | disc kept | curved: in/out | gain | disc kept | triangles |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    flat = [r for r in runs if r["surface"] == "flat"]
+    curved = [r for r in runs if r["surface"] == "curved"]
+    for a, b in zip(flat, curved):
+        print(f"| {a['strength']:g} | {a['expected']:.1f}x | {a['in_out']:.2f} | {a['gain']:.2f}x | {a['kept_in']:.0%} | "
+              f"{b['in_out']:.2f} | {b['gain']:.2f}x | {b['kept_in']:.0%} | {a['triangles']:,} / {b['triangles']:,} |")
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
+    s = [r["strength"] for r in flat]
+    ax.semilogy(s, [r["gain"] for r in flat], "o-", label="flat grid, painted disc")
+    ax.semilogy(s, [r["gain"] for r in curved], "s-", label="curved sheet, painted disc")
+    ax.semilogy(s, [r["expected"] for r in flat], "k--", lw=1, label="expected (the slider's calibration)")
+    ax.axvline(imp.DEFAULT_STRENGTH, color="gray", lw=0.8, ls=":")
+    ax.set_xlabel("Importance strength")
+    ax.set_ylabel("vertex density, painted / rest (relative to input)")
+    ax.set_title(f"Painted importance at {RATIO:.0%}: density against strength", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fc.save(fig, "importance_calibration.png")
+    if not args.no_ogre:
+        ogre_check()
+
+
+if __name__ == "__main__":
+    main()
