@@ -212,6 +212,16 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     g.add_argument("--line-weight", type=_number, default=d.line_weight, metavar="W",
                    help="line-quadric weight: higher gives more uniform triangles, lower a more "
                         f"faithful shape (default {d.line_weight:g}; useful up to 0.1)")
+    g.add_argument("--min-quality", type=_number, default=d.min_quality, metavar="Q",
+                   help="no collapse makes a triangle thinner than this quality, 0 to 1 (1 = "
+                        f"equilateral; default {d.min_quality:g}); 0 with --line-weight 0 gives "
+                        "the closest shape on hard-surface parts, at the cost of slivers")
+    g.add_argument("--feature-angle", type=_number, default=d.feature_angle, metavar="DEG",
+                   help="edges whose faces meet at more than DEG degrees are kept like sharp edges "
+                        "and their corners stay in place (hard-surface parts: try 60; default 0 = off)")
+    g.add_argument("--remove-small-components", action="store_true",
+                   help="when a target cannot be reached otherwise, delete the smallest separate "
+                        "parts (bolts, leaf cards) rather than stop above it")
     g.add_argument("--importance-group", metavar="NAME",
                    help="vertex group painting where detail matters (weight 1 = keep most)")
     g.add_argument("--from-armature", action="store_true",
@@ -274,6 +284,10 @@ def check_args(args) -> list:
                         + " ".join(str(n) for n in args.faces))
     if args.line_weight < 0:
         problems.append(f"--line-weight must be >= 0, got {args.line_weight:g}")
+    if not 0.0 <= args.min_quality <= 1.0:
+        problems.append(f"--min-quality must be between 0 and 1, got {args.min_quality:g}")
+    if not 0.0 <= args.feature_angle < 180.0:
+        problems.append(f"--feature-angle must be in degrees from 0 (off) to below 180, got {args.feature_angle:g}")
     if not 0.0 <= args.strength <= 1.0:
         problems.append(f"--strength must be between 0 and 1, got {args.strength:g}")
     for name in ("boundary", "seam", "sharp", "material"):
@@ -413,6 +427,9 @@ def _settings(args) -> LodSettings:
     """The settings every object starts from (importance is chosen per object)."""
     return LodSettings(
         line_weight=args.line_weight,
+        min_quality=args.min_quality,
+        feature_angle=args.feature_angle,
+        remove_small_components=args.remove_small_components,
         importance_strength=args.strength,
         importance_mode=args.mode.upper(),
         preserve_boundaries=not args.no_preserve_boundaries,

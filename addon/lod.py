@@ -156,6 +156,9 @@ def _core_options(obj, settings, data, g) -> tuple:
 
     options = dict(
         line_weight=float(settings.line_weight),
+        min_quality=float(settings.min_quality),
+        feature_angle=float(settings.feature_angle) or None,
+        remove_small_components=bool(settings.remove_small_components),
         boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0,
         preserve_seams=bool(settings.preserve_seams),
         vertex_attributes=vattr,
@@ -327,6 +330,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             "vertices": int(len(result.vertices)),
             "seconds": float(stats.seconds),
             "stop_reason": stats.stop_reason,
+            "relaxation_step": int(stats.relaxation_step),
+            "removed_components": int(stats.removed_components),
         }
         if measuring:
             rep = measure.mesh_report(data.vertices, data.faces, result.vertices, result.faces,
@@ -340,8 +345,12 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             if density is not None:
                 entry["importance"] = density
         if stats.stop_reason != core.STOP_TARGET:
+            why = core.STOP_REASON_TEXT.get(stats.stop_reason, stats.stop_reason)
+            hint = "" if lod_input.settings.remove_small_components else \
+                " (Remove Small Parts lets it delete the smallest separate parts)"
             lod_input.warnings.append(
-                f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {stats.stop_reason}")
+                f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {why}"
+                + (hint if stats.stop_reason == core.STOP_TOPOLOGY else ""))
         reports.append(entry)
     report_progress(1.0)
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)

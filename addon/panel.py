@@ -55,10 +55,14 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col.prop(settings, "levels")
         col.prop(settings, "level_factor")
         box.label(text="LOD1..%d: %s" % (settings.levels, chain_preview(settings)))
+        box.prop(settings, "remove_small_components")
 
         box = layout.box()
-        box.label(text="Uniformity", icon='MESH_GRID')
-        box.prop(settings, "line_weight")
+        box.label(text="Shape", icon='MESH_GRID')
+        col = box.column(align=True)
+        col.prop(settings, "line_weight")
+        col.prop(settings, "min_quality")
+        col.prop(settings, "feature_angle")
 
         box = layout.box()
         box.label(text="Importance", icon='WPAINT_HLT')

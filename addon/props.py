@@ -59,6 +59,20 @@ def settings_properties(operator: bool = False) -> dict:
             description="Line-quadric weight w for every vertex: higher gives more uniform, "
                         "better shaped triangles, lower follows the shape more faithfully "
                         "(paper default 0.001; above 0.1 the shape starts to suffer)", **opts),
+        "min_quality": FloatProperty(
+            name="Min Quality", default=d.min_quality, min=0.0, max=1.0, subtype='FACTOR',
+            description="No collapse makes a triangle thinner than this quality (1 = equilateral): "
+                        "lower it (even to 0) for hard-surface parts that need their shape more than "
+                        "clean triangles. Relaxed automatically only when the target needs it", **opts),
+        "feature_angle": FloatProperty(
+            name="Feature Angle", default=d.feature_angle, min=0.0, max=179.0, precision=1,
+            description="Degrees: edges whose faces meet at more than this are kept like sharp "
+                        "edges, and corners where three of them meet stay in place; for "
+                        "hard-surface parts (try 60). 0 turns it off (organic meshes)", **opts),
+        "remove_small_components": BoolProperty(
+            name="Remove Small Parts", default=d.remove_small_components,
+            description="When the target needs it, delete the smallest separate parts (bolts, "
+                        "leaf cards) instead of stopping above the target", **opts),
         "importance_source": EnumProperty(
             name="Importance", items=IMPORTANCE_SOURCES, default=d.importance_source,
             description="Where the per-vertex importance comes from", **opts),

@@ -26,6 +26,9 @@ class LodSettings:
     level_factor: float = 0.5
     target_triangles: int = 0
     line_weight: float = 1e-3
+    min_quality: float = 0.3
+    feature_angle: float = 0.0
+    remove_small_components: bool = False
     importance_source: str = 'NONE'
     importance_group: str = ""
     importance_strength: float = 0.5  # the calibrated default (addon/importance.py)
@@ -63,6 +66,10 @@ class LodSettings:
             raise LodError(f"levels must be at least 1, got {self.levels}")
         if not (0.0 < self.level_factor < 1.0):
             raise LodError(f"level factor must be between 0 and 1, got {self.level_factor}")
+        if not (0.0 <= self.min_quality <= 1.0):
+            raise LodError(f"min triangle quality must be in [0, 1], got {self.min_quality}")
+        if not (0.0 <= self.feature_angle < 180.0):
+            raise LodError(f"feature angle must be in [0, 180) degrees (0 = off), got {self.feature_angle}")
         if self.target_triangles < 0:
             raise LodError(f"target triangles must be 0 (use the ratio) or positive, got {self.target_triangles}")
         for name in ("line_weight", "importance_strength", "boundary_strength", "seam_strength",

@@ -499,7 +499,9 @@ def test_panel_draws_in_every_state(res):
 # each field's label (RNA name or the panel's text override) and value as Blender formats it.
 PANEL_DEFAULTS = {
     "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"], "levels": ["Levels", "3"],
-    "level_factor": ["Factor", "0.50"], "line_weight": ["Uniformity", "0.0010"],
+    "level_factor": ["Factor", "0.50"], "remove_small_components": ["Remove Small Parts", ""],
+    "line_weight": ["Uniformity", "0.0010"], "min_quality": ["Min Quality", "0.30"],
+    "feature_angle": ["Feature Angle", "0.0"],
     "importance_source": ["Source", "None"],
     "preserve_boundaries": ["Boundaries", ""], "boundary_strength": ["", "1.00"],
     "preserve_seams": ["UV Seams", ""], "seam_strength": ["", "1.00"],
