@@ -1,0 +1,258 @@
+"""Issue 18: every target the topology allows is reached; the quality rules relax only
+as far as needed (core.guards); topology limits say so; small parts may go; hard
+surfaces get a feature angle and a shape-versus-fidelity control."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import core
+import meshgen as mg
+from core.guards import RULES, SLIVER_QUALITY, relaxation_ladder
+
+
+def _fan_uv(V, F, UV):
+    return dict(corner_attributes={"uv": UV}, uv_attributes=("uv",))
+
+
+def _two_spheres_on_one_vertex(n_lon=20, n_lat=10):
+    """Two UV spheres touching at a pole that both share: a pinch vertex."""
+    V, F, _ = mg.uv_sphere(n_lon, n_lat)
+    V2 = V + [0.0, 0.0, 2.0]  # its south pole (last vertex) lands on the first's north pole
+    F2 = F + len(V)
+    F2[F2 == len(V) + len(V2) - 1] = 0
+    return np.concatenate([V, V2]), np.concatenate([F, F2])
+
+
+def _three_sheets_on_one_edge(n=8):
+    """Three curved strips sharing their middle edge row (each edge there has 3 faces)."""
+    V, F = mg.grid(n, height=mg.bumps(0.1))
+    row = n // 2
+    spine = row * (n + 1) + np.arange(n + 1)
+    # A third sheet standing on the spine, curved too.
+    zs = np.linspace(0.0, 0.6, n // 2 + 1)[1:]
+    X, Z = np.meshgrid(V[spine, 0], zs, indexing="xy")
+    fin = np.c_[X.ravel(), 0.5 + 0.1 * np.sin(3 * X.ravel()) * Z.ravel(), Z.ravel() + V[spine, 2][None, :].repeat(len(zs), 0).ravel()]
+    ids = np.concatenate([spine[None, :], len(V) + np.arange(X.size).reshape(len(zs), n + 1)])
+    a, b, c, d = ids[:-1, :-1].ravel(), ids[:-1, 1:].ravel(), ids[1:, 1:].ravel(), ids[1:, :-1].ravel()
+    return np.concatenate([V, fin]), np.concatenate([F, np.c_[a, b, c], np.c_[a, c, d]]).astype(np.int64)
+
+
+# ------------------------------------------------------------------ the rule table
+
+
+def test_rules_table_names_every_relaxable_rule_the_ladder_changes():
+    ladder = relaxation_ladder()
+    assert ladder[0].min_quality == SLIVER_QUALITY and ladder[0].seams == "kept"
+    # Each step is at least as loose as the one before, on every threshold.
+    order = {"kept": 0, "slide": 1, "free": 2}
+    for a, b in zip(ladder, ladder[1:]):
+        assert b.step == a.step + 1
+        assert b.min_normal_cosine <= a.min_normal_cosine and b.min_quality <= a.min_quality
+        assert order[b.seams] >= order[a.seams] and b.min_uv_area_kept <= a.min_uv_area_kept
+        assert b.uv_flip <= a.uv_flip
+    # The loosest step relaxes every quality rule; turning over is never allowed.
+    last = ladder[-1]
+    assert last.min_normal_cosine == 0.0 and last.min_quality == 0 and last.seams == "free"
+    relaxable = {r.name for r in RULES if r.relaxes}
+    assert relaxable == {"normal_turn", "sliver", "seams", "uv_area", "uv_flip"}
+    assert {"link_condition", "no_turn_over", "boundaries_stay"} <= {r.name for r in RULES if not r.relaxes}
+
+
+# ------------------------------------------------------------------ targets reached
+
+
+@pytest.mark.parametrize("n_lon,n_lat,ratio", [(20, 10, 0.1), (40, 20, 0.1), (40, 20, 0.05), (60, 40, 0.05),
+                                               (60, 40, 0.01)])
+@pytest.mark.parametrize("uv", [False, True])
+def test_low_poly_spheres_reach_low_targets(n_lon, n_lat, ratio, uv):
+    """Blender's UV sphere gives each pole triangle its own UV: every pole edge is a seam
+    and every pole-ring vertex a seam end. Kept, those froze the run at 130 of 36
+    triangles; the seam rule now relaxes once nothing else can go."""
+    V, F, UV = mg.uv_sphere(n_lon, n_lat, pole_uv="fan")
+    target = max(int(round(ratio * len(F))), 4)
+    r = core.simplify(V, F, target_faces=target, **(_fan_uv(V, F, UV) if uv else {}))
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached"
+    assert target - 1 <= len(r.faces) <= target
+    assert len(mg.boundary_edges(r.faces)) == 0 and mg.euler_characteristic(r.faces) == 2
+    if uv:
+        assert r.corner_attributes["uv"].shape == (len(r.faces), 3, 2)
+
+
+def test_relaxation_is_only_as_far_as_needed():
+    V, F, UV = mg.uv_sphere(40, 20, pole_uv="fan")
+    easy = core.simplify(V, F, ratio=0.5, **_fan_uv(V, F, UV))
+    hard = core.simplify(V, F, target_faces=76, **_fan_uv(V, F, UV))
+    assert easy.stats.relaxation_step == 0 and hard.stats.relaxation_step > 0
+    # Up to where it was enough, the strict run and the relaxed one are the same run:
+    # relaxing never changes an easier target's output.
+    again = core.simplify(V, F, ratio=0.5, **_fan_uv(V, F, UV))
+    assert np.array_equal(easy.faces, again.faces)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(n_lon=st.integers(6, 30), n_lat=st.integers(4, 16), ratio=st.floats(0.01, 0.5),
+       pole_uv=st.sampled_from(["shared", "fan"]), uv=st.booleans(), w=st.sampled_from([0.0, 1e-3, 0.1]),
+       seed=st.integers(0, 100))
+def test_every_target_a_closed_sphere_allows_is_reached(n_lon, n_lat, ratio, pole_uv, uv, w, seed):
+    """A closed genus-0 surface can go down to a tetrahedron (4 faces)."""
+    V, F, UV = mg.uv_sphere(n_lon, n_lat, pole_uv=pole_uv)
+    target = max(int(round(ratio * len(F))), 4)
+    r = core.simplify(V, F, target_faces=target, line_weight=w, seed=seed, **(_fan_uv(V, F, UV) if uv else {}))
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached", (len(r.faces), target, r.stats)
+    mg.assert_target_respected(r, target)
+    assert mg.euler_characteristic(r.faces) == 2
+
+
+def test_pinch_vertex_region_reaches_its_target():
+    V, F = _two_spheres_on_one_vertex()
+    target = int(0.4 * len(F))
+    r = core.simplify(V, F, target_faces=target)
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached" and target - 1 <= len(r.faces) <= target
+    # The pinch itself is kept in place: it is still shared by both spheres.
+    pinch = np.flatnonzero(r.vertex_origin == 0)
+    assert len(pinch) == 1 and np.allclose(r.vertices[pinch[0]], V[0])
+
+
+def test_three_sheets_on_one_edge_simplify_around_it():
+    V, F = _three_sheets_on_one_edge()
+    target = int(0.25 * len(F))
+    r = core.simplify(V, F, target_faces=target)
+    mg.assert_valid_result(r, V, F, manifold=False)
+    assert r.stats.stop_reason == "target_reached" and target - 1 <= len(r.faces) <= target
+    # The shared edges are kept in place (every spine vertex survives, unmoved) while the
+    # sheets around them are simplified.
+    n = 8
+    spine = (n // 2) * (n + 1) + np.arange(n + 1)
+    kept = np.isin(spine, r.vertex_origin)
+    assert kept.all()
+    rows = np.flatnonzero(np.isin(r.vertex_origin, spine))
+    np.testing.assert_array_equal(r.vertices[rows], V[r.vertex_origin[rows]])
+
+
+def test_topology_limit_is_a_distinct_stop():
+    # A closed cube can lose faces down to a tetrahedron and no further.
+    V, F, _ = mg.cube(3)
+    r = core.simplify(V, F, target_faces=2)
+    mg.assert_valid_result(r, V, F)
+    assert len(r.faces) == 4 and r.stats.stop_reason == core.STOP_TOPOLOGY
+    assert "topology" in core.STOP_REASON_TEXT[r.stats.stop_reason]
+    # Two separate closed parts keep four faces each.
+    V2, F2 = mg.components([(V, F), (V + 3.0, F)])
+    r = core.simplify(V2, F2, target_faces=4)
+    assert len(r.faces) == 8 and r.stats.stop_reason == core.STOP_TOPOLOGY
+
+
+# ------------------------------------------------------------------ small parts
+
+
+def _scene_of_parts():
+    """A big sphere plus six small closed ones of growing size (bolts, debris)."""
+    big = mg.uv_sphere(24, 12)[:2]
+    parts = [big] + [(mg.uv_sphere(8, 6, radius=0.05 * (i + 1))[0] + [3.0 + i, 0, 0], mg.uv_sphere(8, 6)[1])
+                     for i in range(6)]
+    return mg.components(parts), [len(p[1]) for p in parts]
+
+
+def test_small_parts_stay_by_default_and_go_smallest_first_when_allowed():
+    (V, F), sizes = _scene_of_parts()
+    target = 20  # below the 7 x 4 faces that seven closed parts keep at least
+    kept = core.simplify(V, F, target_faces=target)
+    assert kept.stats.stop_reason == core.STOP_TOPOLOGY and len(kept.faces) > target
+    assert mg.count_components(len(kept.vertices), mg.edge_table(kept.faces)[0]) == 7
+
+    r = core.simplify(V, F, target_faces=target, remove_small_components=True)
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached" and len(r.faces) <= target
+    assert r.stats.removed_components > 0
+    # The big sphere is never removed, and the removed parts are the smallest ones.
+    first_small = sizes[0]
+    assert np.any(r.face_origin < first_small)
+    survivors = np.unique((r.face_origin[r.face_origin >= first_small] - first_small) // sizes[1])
+    # Whatever small parts survive are the largest ones (a suffix of 0..5 by size).
+    np.testing.assert_array_equal(survivors, np.arange(6 - len(survivors), 6))
+    assert len(survivors) < 6
+
+
+def test_a_part_with_a_locked_vertex_is_never_removed():
+    (V, F), sizes = _scene_of_parts()
+    locked = np.zeros(len(V), dtype=bool)
+    smallest_first_vertex = len(mg.uv_sphere(24, 12)[0])
+    locked[smallest_first_vertex] = True
+    r = core.simplify(V, F, target_faces=20, remove_small_components=True, locked=locked)
+    assert smallest_first_vertex in r.vertex_origin
+
+
+# ------------------------------------------------------------------ hard surfaces
+
+
+def _bevel_box(k=8):
+    """A cube with one face bulged into a gentle dome: 12 creases, 8 corners."""
+    V, F, _ = mg.cube(k)
+    top = V[:, 2] > 0.999
+    V = V.copy()
+    V[top, 2] += 0.15 * (1 - V[top, 0] ** 2) * (1 - V[top, 1] ** 2)
+    return V, F
+
+
+@pytest.mark.parametrize("ratio", [0.2, 0.05])
+def test_feature_angle_keeps_corners_exactly(ratio):
+    V, F = _bevel_box()
+    corners = np.flatnonzero(np.all(np.isclose(np.abs(V), 1.0), axis=1))
+    assert len(corners) == 8
+    r = core.simplify(V, F, ratio=ratio, feature_angle=45)
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached"
+    rows = np.flatnonzero(np.isin(r.vertex_origin, corners))
+    assert len(rows) == 8
+    np.testing.assert_array_equal(r.vertices[rows], V[r.vertex_origin[rows]])
+
+
+def test_feature_angle_keeps_creases_closer_than_without():
+    V, F = _bevel_box(12)
+    on_edge = np.sum(np.isclose(np.abs(V), 1.0), axis=1) >= 2
+    crease_points = V[on_edge]
+
+    def crease_error(r):
+        # Distance of the input's crease vertices to the output's edges.
+        E = mg.edge_table(r.faces)[0]
+        return mg.distance_to_polyline(crease_points, r.vertices, E).max()
+
+    off = core.simplify(V, F, ratio=0.05, line_weight=0.05)
+    on = core.simplify(V, F, ratio=0.05, line_weight=0.05, feature_angle=45)
+    assert crease_error(on) < 0.6 * crease_error(off)
+
+
+def test_min_quality_trades_slivers_for_shape():
+    V, F = _bevel_box(12)
+    strict = core.simplify(V, F, ratio=0.05)
+    loose = core.simplify(V, F, ratio=0.05, min_quality=0.0, line_weight=0.0)
+    q_strict = core.triangle_quality(strict.vertices, strict.faces)
+    assert np.mean(q_strict < SLIVER_QUALITY) <= 0.01
+    assert loose.stats.stop_reason == "target_reached"
+    assert core.triangle_quality(loose.vertices, loose.faces).min() < q_strict.min()
+
+
+@pytest.mark.parametrize("kw,message", [
+    ({"min_quality": 1.5}, "min_quality"),
+    ({"min_quality": -0.1}, "min_quality"),
+    ({"feature_angle": 180}, "feature_angle"),
+    ({"feature_angle": -5}, "feature_angle"),
+    ({"feature_angle": float("nan")}, "feature_angle"),
+])
+def test_bad_new_options_are_named(kw, message):
+    V, F, _ = mg.cube(2)
+    with pytest.raises(ValueError, match=message):
+        core.simplify(V, F, ratio=0.5, **kw)
+
+
+def test_feature_angle_zero_or_none_is_off():
+    V, F = _bevel_box()
+    a = core.simplify(V, F, ratio=0.2)
+    b = core.simplify(V, F, ratio=0.2, feature_angle=0)
+    c = core.simplify(V, F, ratio=0.2, feature_angle=None)
+    assert np.array_equal(a.faces, b.faces) and np.array_equal(a.faces, c.faces)
