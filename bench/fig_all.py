@@ -24,9 +24,11 @@ from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 DOC = REPO_ROOT / "docs" / "figures.md"
-SCRIPTS = ("fig_planar", "fig_weight_sweep", "fig_importance", "fig_pareto", "fig_skinned", "render", "fig_panel")
+SCRIPTS = ("fig_planar", "fig_weight_sweep", "fig_importance", "importance_calibration", "fig_pareto", "fig_skinned",
+           "render", "fig_panel")
 # The doc a script's output block lives in, where it is not DOC.
-DOCS = {"fig_panel": REPO_ROOT / "docs" / "panel.md"}
+DOCS = {"fig_panel": REPO_ROOT / "docs" / "panel.md",
+        "importance_calibration": REPO_ROOT / "docs" / "weight-painting.md"}
 
 
 def doc_for(name: str) -> Path:

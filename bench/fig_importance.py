@@ -4,9 +4,9 @@
 
 A flat grid of 120 x 120 quads (121 x 121 = 14,641 vertices, 28,800 triangles) with a disc painted at weight 1 (the rest
 0), taken to 10 %:
-  * ours, Soft: the add-on's Soft importance at strength 1 (w_i = 1e-3 + 0.1 g_i, Eq. 16);
-  * ours, Strong: the add-on's Strong importance at strength 1 (Sec. 4.4.1: the painted
-    vertices' quadrics scaled by 1000);
+  * ours at three strengths of the add-on's Importance slider: 0.1 (a subtle preference),
+    the default 0.5 and 1 (the top, near locking); the painted vertices' quadrics are
+    scaled by a factor calibrated on density (Sec. 4.4.1, addon/importance.py);
   * hard lock: core's ``locked=`` on the painted vertices (they can never move or go);
   * Blender's Decimate (Collapse, ratio 0.1) with the same vertex group, plain and inverted.
 The importance arrays come from addon/importance.py, exactly as the panel computes them.
@@ -22,7 +22,7 @@ import numpy as np
 from matplotlib.patches import Circle
 
 import core
-from addon.importance import controls
+from addon.importance import DEFAULT_STRENGTH, controls
 from blender_reference import mesh_arrays, mesh_from_arrays, stdout_to_stderr
 
 N = 121  # vertices per side: 120 x 120 quads
@@ -78,8 +78,8 @@ def main() -> None:
         res = core.simplify(V, F, ratio=RATIO, **kw)
         runs.append(dict(label=label, V=res.vertices, F=res.faces, stop=res.stats.stop_reason))
 
-    ours("ours, Soft importance (strength 1)", **controls(g, 1e-3, 1.0, "SOFT"))
-    ours("ours, Strong importance (strength 1)", **controls(g, 1e-3, 1.0, "STRONG"))
+    for strength, what in ((0.1, "subtle"), (DEFAULT_STRENGTH, "default"), (1.0, "top")):
+        ours(f"ours, importance strength {strength:g} ({what})", **controls(g, 1e-3, strength))
     ours("hard lock of the painted vertices", line_weight=1e-3, locked=g > 0)
     for invert in (False, True):
         v, f = decimate_with_group(V, F, g, RATIO, invert)
@@ -91,23 +91,26 @@ def main() -> None:
         r.update(core.quality_summary(r["V"], r["F"]))
     d_in0, d_out0, v_in0, _ = densities(V, F)
 
-    fig, axes = plt.subplots(2, 3, figsize=(12, 8.4), layout="constrained")
+    fig, axes = plt.subplots(2, 4, figsize=(16, 8.4), layout="constrained")
     axes = axes.ravel()
+    axes[-1].set_axis_off()  # seven panels on a 2 x 4 grid
     fc.plot_mesh_2d(axes[0], V, F, f"input: {len(F):,} triangles, painted disc (weight 1)", linewidth=0.1)
     for ax, r in zip(axes[1:], runs):
         fc.plot_mesh_2d(ax, r["V"], r["F"],
                         f"{r['label']}\n{len(r['F']):,} triangles, density in/out "
                         f"{r['d_in'] / r['d_out']:.1f}x", linewidth=0.25)
-    for ax in axes:
+    for ax in axes[:-1]:
         ax.add_patch(Circle(CENTER, RADIUS, fill=False, ec="red", lw=1.2, ls="--"))
     fig.suptitle(f"Painted importance on a flat {N - 1} x {N - 1} grid, target {RATIO:.0%} ({target:,} triangles)",
                  fontsize=11)
     fc.save(fig, "fig_importance.png")
 
-    soft, strong, lock, dec, dec_inv = runs
-    print(f"On a flat {N - 1}x{N - 1} grid taken to {RATIO:.0%} ({target:,} triangles) with a painted disc, our Soft "
-          f"and Strong importance reach the target with {soft['d_in'] / soft['d_out']:.1f}x and "
-          f"{strong['d_in'] / strong['d_out']:.1f}x the vertex density inside the disc, while Blender's "
+    subtle, default, top, lock, dec, dec_inv = runs
+    print(f"On a flat {N - 1}x{N - 1} grid taken to {RATIO:.0%} ({target:,} triangles) with a painted disc, our "
+          f"importance reaches the target with {subtle['d_in'] / subtle['d_out']:.1f}x, "
+          f"{default['d_in'] / default['d_out']:.1f}x and {top['d_in'] / top['d_out']:.1f}x the vertex density "
+          f"inside the disc at strength 0.1, {DEFAULT_STRENGTH:g} (the default: the disc keeps "
+          f"{default['v_in']:,} of its {v_in0:,} vertices) and 1, while Blender's "
           f"Decimate with the same vertex group stops at {len(dec['F']):,} triangles "
           f"({dec['v_all']:,} of {N * N:,} vertices) and, inverted, keeps "
           f"{dec_inv['v_in']:,} of the {v_in0:,} painted vertices like a hard lock "

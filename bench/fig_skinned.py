@@ -13,7 +13,8 @@ Compared at the same triangle count (10 % of the subdivided character), all thro
 bpy module, each LOD posed by the same armature at 10 frames of the Fox's "Run" and
 "Survey" animations:
   * ours, Armature importance: the add-on's own path (addon.lod.generate_lods with
-    importance source ARMATURE, Soft, strength 1 = the paper's w_i = min(0.15 (1 - s_i), 0.1));
+    importance source ARMATURE at the default strength: the paper's w_i = min(0.15 (1 - s_i), 0.1)
+    over its cap is the importance g, acting like painted importance, addon/importance.py);
     the LOD object gets interpolated vertex groups and its own Armature modifier. Every
     other setting is the add-on's default (UV seams, sharp edges, boundaries kept);
   * ours, no importance: the same with importance source NONE;
@@ -96,8 +97,7 @@ SHOWN_POSE = ("Run", 8)
 
 def make_lod(fox, arm, label, source, **overrides):
     """The add-on's LOD of ``fox`` (rest shape), kept out of the add-on's re-run cleanup."""
-    settings = LodSettings(ratio=RATIO, levels=1, importance_source=source, importance_mode="SOFT",
-                           importance_strength=1.0, measure_deviation=False, **overrides)
+    settings = LodSettings(ratio=RATIO, levels=1, importance_source=source, measure_deviation=False, **overrides)
     set_pose(arm, False)
     report = lod.generate_lods(bpy.context.scene, fox, settings)
     level = report["levels"][0]

@@ -45,6 +45,19 @@ STRENGTHS = (0.0, 0.1, 0.25, 0.4, 0.5, 0.6, 0.75, 0.9, 1.0)
 OGRE_SHARE = 0.15  # of the vertices, nearest the top, painted 1
 
 
+def former_soft(g, strength):
+    """The former Soft mode (before issue 19), for comparison: an added line weight,
+    w_i = 0.001 + 0.1 strength g_i (paper Eq. 16), no scaling."""
+    return {"line_weight": 1e-3, "vertex_weights": 1e-3 + 0.1 * strength * np.asarray(g)}
+
+
+def region_quality(res, g) -> float:
+    """Mean triangle quality of the LOD triangles whose three vertices came from the region."""
+    q = core.triangle_quality(res.vertices, res.faces)
+    inside = (g[res.vertex_origin] >= 0.5)[res.faces].all(axis=1)
+    return float(q[inside].mean()) if inside.any() else float("nan")
+
+
 def sheet(curved: bool):
     """The calibration grid (flat or curved) and its painted disc g (0/1 per vertex)."""
     n = 121
@@ -95,18 +108,19 @@ def sweep() -> None:
     print("GAIN_TO_FACTOR = (" + ", ".join(f"({m:g}, {f:g})" for m, f in table) + ")")
 
 
-def curve() -> list:
-    """The add-on's mapping at the slider's strengths on both surfaces."""
+def curve(mapping=None, strengths=STRENGTHS) -> list:
+    """A strength mapping (the add-on's by default) at the slider's strengths on both surfaces."""
+    mapping = mapping or (lambda g, s: imp.controls(g, 1e-3, s))
     runs = []
     for curved in (False, True):
         V, F, g = sheet(curved)
         base = kept(core.simplify(V, F, ratio=RATIO, line_weight=1e-3), g)[2]
-        for s in STRENGTHS:
-            res = core.simplify(V, F, ratio=RATIO, **imp.controls(g, 1e-3, s))
+        for s in strengths:
+            res = core.simplify(V, F, ratio=RATIO, **mapping(g, s))
             k_in, k_out, in_out = kept(res, g)
             runs.append(dict(surface="curved" if curved else "flat", strength=s, triangles=len(res.faces),
                              target=int(round(RATIO * len(F))), kept_in=k_in, kept_out=k_out, in_out=in_out,
-                             gain=in_out / base, expected=imp.expected_gain(s)))
+                             gain=in_out / base, expected=imp.expected_gain(s), quality=region_quality(res, g)))
     return runs
 
 
@@ -129,22 +143,24 @@ def ogre_check() -> None:
     region = F[(g[F] > 0).all(axis=1)]
     points = measure.sample_surface(V, region, 100_000, np.random.default_rng(0))
     rows = []
-    for label, s in (("no importance", None), ("strength 0.25", 0.25),
-                     (f"default strength {imp.DEFAULT_STRENGTH:g}", imp.DEFAULT_STRENGTH),
-                     ("strength 0.75", 0.75)):
-        opts = {"line_weight": 1e-3} if s is None else imp.controls(g, 1e-3, s)
+    for label, opts in (("no importance", {"line_weight": 1e-3}),
+                        ("strength 0.25", imp.controls(g, 1e-3, 0.25)),
+                        (f"default strength {imp.DEFAULT_STRENGTH:g}", imp.controls(g, 1e-3, imp.DEFAULT_STRENGTH)),
+                        ("strength 0.75", imp.controls(g, 1e-3, 0.75)),
+                        ("former Soft, strength 1 (its default)", former_soft(g, 1.0))):
         res = core.simplify(V, F, ratio=RATIO, **opts)
         k_in, k_out, in_out = kept(res, g)
         tree = measure._build_tree(res.vertices, res.faces)
         rows.append((label, len(res.faces), int(round(k_in * g.sum())), k_in, in_out,
-                     float(measure._distances(tree, points).mean())))
+                     float(measure._distances(tree, points).mean()), region_quality(res, g)))
     base = rows[0]
-    print(f"\nogre.obj ({len(F):,} triangles) at {RATIO:.0%}, the {int(g.sum()):,} vertices nearest its top painted:")
-    print("| run | triangles | region vertices kept | density gain | region mean distance |")
-    print("|---|---|---|---|---|")
-    for label, tris, n_kept, k_in, gain, dist in rows:
+    print(f"ogre.obj ({len(F):,} triangles) at {RATIO:.0%}, the {int(g.sum()):,} vertices nearest its top painted "
+          f"(region mean distance: from area samples of the painted input surface to the LOD):")
+    print("| run | triangles | region vertices kept | density gain | region mean distance | region mean q |")
+    print("|---|---|---|---|---|---|")
+    for label, tris, n_kept, k_in, gain, dist, q in rows:
         print(f"| {label} | {tris:,} | {n_kept:,} ({k_in:.0%}) | {gain / base[4]:.2f}x | "
-              f"{dist / base[5]:.2f}x |")
+              f"{dist / base[5]:.2f}x | {q:.3f} |")
 
 
 def main() -> None:
@@ -164,11 +180,25 @@ def main() -> None:
         print(f"| {a['strength']:g} | {a['expected']:.1f}x | {a['in_out']:.2f} | {a['gain']:.2f}x | {a['kept_in']:.0%} | "
               f"{b['in_out']:.2f} | {b['gain']:.2f}x | {b['kept_in']:.0%} | {a['triangles']:,} / {b['triangles']:,} |")
 
+    # The former Soft mode (an added line weight): its strength meant different densities
+    # on flat and curved regions, which is why it went (issue 19).
+    soft = curve(former_soft, (0.1, 0.25, 0.5, 1.0))
+    print("The former Soft mode (w = 0.001 + 0.1 strength g) on the same surfaces, for comparison:")
+    print("| former Soft strength | flat: gain | disc kept | curved: gain | disc kept | flat / curved |")
+    print("|---|---|---|---|---|---|")
+    half = len(soft) // 2
+    for a, b in zip(soft[:half], soft[half:]):
+        print(f"| {a['strength']:g} | {a['gain']:.2f}x | {a['kept_in']:.0%} | {b['gain']:.2f}x | {b['kept_in']:.0%} | "
+              f"{a['gain'] / b['gain']:.1f} |")
+
     fig, ax = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
     s = [r["strength"] for r in flat]
     ax.semilogy(s, [r["gain"] for r in flat], "o-", label="flat grid, painted disc")
     ax.semilogy(s, [r["gain"] for r in curved], "s-", label="curved sheet, painted disc")
     ax.semilogy(s, [r["expected"] for r in flat], "k--", lw=1, label="expected (the slider's calibration)")
+    ss = [r["strength"] for r in soft[:half]]
+    ax.semilogy(ss, [r["gain"] for r in soft[:half]], "o:", color="C0", alpha=0.5, label="former Soft mode, flat")
+    ax.semilogy(ss, [r["gain"] for r in soft[half:]], "s:", color="C1", alpha=0.5, label="former Soft mode, curved")
     ax.axvline(imp.DEFAULT_STRENGTH, color="gray", lw=0.8, ls=":")
     ax.set_xlabel("Importance strength")
     ax.set_ylabel("vertex density, painted / rest (relative to input)")
