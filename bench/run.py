@@ -43,6 +43,7 @@ MESH_SUFFIXES = (".obj", ".gltf", ".glb")
 BIG_SOURCE = "ogre.obj"
 BIG_RATIO = 0.1
 CRITERIA_RATIO = 0.1
+FIDELITY_METHOD = "core, fidelity end (line weight 0, min quality 0)"
 # Issue 3's acceptance thresholds.
 TIME_LIMITS = {"ogre": 2.0}  # core time / Blender time, per mesh
 BIG_TIME_LIMIT = 1.0
@@ -73,14 +74,14 @@ def run_blender(vertices, faces, ratio, repeat):
     return best
 
 
-def run_core(vertices, faces, ratio, line_weight, repeat):
+def run_core(vertices, faces, ratio, line_weight, repeat, **options):
     """core.simplify best of ``repeat`` wall-clock runs: (vertices, faces, seconds, extra columns)."""
     import core
 
     best, result = float("inf"), None
     for _ in range(max(1, repeat)):
         t0 = time.perf_counter()
-        result = core.simplify(vertices, faces, ratio=ratio, line_weight=line_weight)
+        result = core.simplify(vertices, faces, ratio=ratio, line_weight=line_weight, **options)
         best = min(best, time.perf_counter() - t0)
     return (result.vertices, result.faces, best,
             {"stop_reason": result.stats.stop_reason, "passes": result.stats.passes})
@@ -152,6 +153,13 @@ def bench_mesh(name, vertices, faces, ratios, args) -> list:
             log(f"  {name} @ {ratio:g}: core.simplify (best of {args.repeat}) ...")
             rows.append(_timed_row(name, vertices, faces, ratio, "core", dec.seconds, args,
                                    partial(run_core, vertices, faces, ratio, args.line_weight, args.repeat)))
+            # The other end of the shape-versus-fidelity control (issue 18): plain
+            # Garland-Heckbert order, no sliver floor.
+            log(f"  {name} @ {ratio:g}: {FIDELITY_METHOD} ...")
+            fidelity = _timed_row(name, vertices, faces, ratio, FIDELITY_METHOD, dec.seconds, args,
+                                  partial(run_core, vertices, faces, ratio, 0.0, 1, min_quality=0.0))
+            fidelity["table_only"] = True
+            rows.append(fidelity)
         for peer, module in args.peer_modules:
             log(f"  {name} @ {ratio:g}: {peer.method} (best of {args.repeat}) ...")
             rows.append(_timed_row(name, vertices, faces, ratio, peer.method, dec.seconds, args,
@@ -329,6 +337,12 @@ def criteria(rows, memory=None, big_name=None) -> list:
                             f"{tag}: core peak RSS {memory['peak_rss_mb']:.0f} MB "
                             f"(limit {BIG_MEMORY_LIMIT_MB:.0f} MB; child process, {memory['source']})"))
             continue
+        fid = pair.get(FIDELITY_METHOD)
+        if fid is not None and "error" not in fid:
+            for key, label in (("hausdorff_percent", "Hausdorff"), ("mean_percent", "mean distance")):
+                out.append((fid[key] <= DISTANCE_FACTOR * b[key],
+                            f"{tag}: fidelity end {label} {fid[key]:.4f} % vs Blender {b[key]:.4f} % "
+                            f"(limit {DISTANCE_FACTOR}x)"))
         for key, label in (("hausdorff_percent", "Hausdorff"), ("mean_percent", "mean distance")):
             out.append((c[key] <= DISTANCE_FACTOR * b[key],
                         f"{tag}: {label} {c[key]:.4f} % vs Blender {b[key]:.4f} % "
