@@ -10,7 +10,7 @@ can see: how many times denser than the rest a fully painted region comes out.
 How (paper Sec. 4.4.1, extreme weights). Vertex i's whole augmented quadric (planes +
 line quadric) is multiplied by
     factor_i = F(strength) ** g_i,
-F(0) = 1 (importance off) up to F(1) ~ 1000 (near locking). Scaling the whole quadric,
+F(0) = 1 (importance off) up to F(1) ~ 840 (near locking). Scaling the whole quadric,
 not adding line weight, is what gives the slider one meaning on every surface: it
 multiplies the collapse cost by the same factor whether that cost comes from curvature
 (plane error) or, on a flat region, from the small line quadric alone. An added line
@@ -24,8 +24,8 @@ Calibration (measured, not derived): STRENGTH_TO_GAIN is the design, the density
 each slider position should give (subtle ~1.5x at 0.1, ~4x at the default 0.5, near
 locking at 1). GAIN_TO_FACTOR is measured by bench/importance_calibration.py --sweep:
 the quadric factor that gives each gain, as the geometric mean over a flat grid and a
-curved sheet with a painted disc taken to 10 % (the two differ by less than 2x up to the
-default). A strength is turned into a gain, then into a factor, by interpolating both
+curved sheet with a painted disc taken to 10 % (the two differ by at most 1.5x up to
+strength 0.75; near the top a flat region saturates into a lock sooner, 2.5x at 0.9). A strength is turned into a gain, then into a factor, by interpolating both
 tables on logarithms (density follows the factor's logarithm, smoothly). Re-run the
 sweep and paste its table when the core's collapse order changes.
 
