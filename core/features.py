@@ -31,3 +31,29 @@ def corners(edges: np.ndarray, n_vertices: int) -> np.ndarray:
     if len(edges) == 0:
         return np.zeros(n_vertices, dtype=bool)
     return np.bincount(np.asarray(edges).ravel(), minlength=n_vertices) >= 3
+
+
+def boundary_corners(vertices: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
+    """(n,) bool: open-boundary vertices where the boundary turns by more than
+    ``angle_degrees`` (the corners of a flat logo or a cut-out panel), and those where
+    more than two boundary edges meet."""
+    n = len(vertices)
+    border = conn.edges[conn.edge_faces == 1]
+    corner = np.zeros(n, dtype=bool)
+    if len(border) == 0:
+        return corner
+    ends = np.concatenate([border[:, 0], border[:, 1]])
+    others = np.concatenate([border[:, 1], border[:, 0]])
+    count = np.bincount(ends, minlength=n)
+    corner[count > 2] = True
+    order = np.argsort(ends, kind="stable")
+    ends, others = ends[order], others[order]
+    first = np.flatnonzero(np.r_[True, ends[1:] != ends[:-1]])
+    pairs = first[count[ends[first]] == 2]  # rows of the first of each two-edge vertex
+    v = ends[pairs]
+    into = vertices[v] - vertices[others[pairs]]
+    out = vertices[others[pairs + 1]] - vertices[v]
+    length = np.linalg.norm(into, axis=1) * np.linalg.norm(out, axis=1)
+    cosine = np.einsum("ij,ij->i", into, out) / np.maximum(length, 1e-300)
+    corner[v[cosine < np.cos(np.radians(angle_degrees))]] = True
+    return corner
