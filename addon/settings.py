@@ -27,7 +27,7 @@ class LodSettings:
     target_triangles: int = 0
     line_weight: float = 1e-3
     min_quality: float = 0.3
-    feature_angle: float = 0.0
+    feature_angle: float = 80.0
     remove_small_components: bool = False
     importance_source: str = 'NONE'
     importance_group: str = ""

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import components, features, quadrics, selection, topology, validation, vertex_quadrics
+from . import components, features, pose_quadrics, quadrics, selection, topology, validation, vertex_quadrics
 from .guards import relaxation_ladder
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
@@ -73,6 +73,7 @@ class State:
     F: np.ndarray
     face_origin: np.ndarray
     locked: np.ndarray
+    corners: np.ndarray  # (n,) feature corners: locked while the rule feature_corners holds
     X: np.ndarray  # stacked vertex attributes (n, K)
     wedges: object
     touched: np.ndarray  # pass in which each vertex's neighbourhood last changed
@@ -103,14 +104,15 @@ def run(p: Problem) -> list:
         p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
         feature_edges, feature_weights, p.probabilistic_sigma,
     )
-    # Vertices on non-manifold edges, or pinched (several fans), are left alone; so are
-    # the corners where creases meet.
-    locked = p.locked | _non_manifold_vertices(conn, F, n) | corners
+    if p.poses is not None:  # a skinned mesh's error in sample poses (core.pose_quadrics)
+        Q += pose_quadrics.build(p.vertices, F, *p.poses)
+    # Vertices on non-manifold edges, or pinched (several fans), are left alone.
+    locked = p.locked | _non_manifold_vertices(conn, F, n)
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
     s = State(
-        V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=locked,
+        V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=locked, corners=corners,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
         conn=conn,
         rejected_pass=np.zeros(len(conn.edges), dtype=np.int64),
@@ -301,7 +303,8 @@ def _non_manifold_vertices(conn, F, n) -> np.ndarray:
 
 def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
     """FREE, SEAM (moves only along its seam) or LOCKED for every vertex (rule seams)."""
-    kind = np.where(s.locked, LOCKED, FREE).astype(np.int8)
+    locked = s.locked | s.corners if s.guards.corners_kept else s.locked
+    kind = np.where(locked, LOCKED, FREE).astype(np.int8)
     if s.wedges is not None and preserve_seams and s.guards.seams != "free":
         seam_edge = s.wedges.seam_edges(conn)
         seam_count = np.bincount(conn.edges[seam_edge].ravel(), minlength=n)

@@ -13,6 +13,16 @@ import numpy as np
 from .geometry import face_frames
 from .topology import Connectivity
 
+# The default feature angle, in degrees. Right angles are what hard-surface parts are made
+# of (boxes, panels, a logo's outline), and 80 catches them with room for imprecise
+# modelling, while organic meshes have few creases that sharp. Measured at 10 % (the Fox
+# at 25 %) against feature angles off: on spot, the bunny, the ogre and the Fox every
+# Hausdorff and mean distance stayed within 1.05x or improved (the Fox 0.45x -> 0.33x of
+# Decimate's Hausdorff), beast's Hausdorff went from 1.12x to 1.00x of Decimate's, homer's
+# from 0.78x to 0.95x; at 60 degrees beast's mean triangle quality lost 0.013, at 30
+# degrees beast's Hausdorff distance grew 4.5x (docs/parameters.md).
+DEFAULT_FEATURE_ANGLE = 80.0
+
 
 def crease_edges(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
     """(k,) indices into conn.edges of the interior manifold edges whose two faces' normals

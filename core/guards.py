@@ -47,6 +47,8 @@ RULES = (
     Rule("normal_turn", "no face turns by more than arccos(min_normal_cosine)", True),
     Rule("sliver", "no face becomes a sliver (quality below min_quality)", True),
     Rule("seams", "seam vertices slide only along their seam; seam ends stay put", True),
+    Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
+                            "boundary, stay put (feature_angle)", True),
     Rule("uv_area", "no UV triangle shrinks below min_uv_area_kept of its area", True),
     Rule("uv_flip", "no UV triangle flips", True),
 )
@@ -65,6 +67,7 @@ class Thresholds:
       cross seams; the far side keeps its corner values).
     min_uv_area_kept: share of its UV area a UV triangle must keep (0 = off).
     uv_flip: whether UV triangles may not flip.
+    corners_kept: whether feature corners (core.features) stay put.
     """
 
     step: int
@@ -73,6 +76,7 @@ class Thresholds:
     seams: str
     min_uv_area_kept: float
     uv_flip: bool
+    corners_kept: bool = True
 
 
 def relaxation_ladder(min_quality: float = SLIVER_QUALITY) -> tuple:
@@ -81,13 +85,15 @@ def relaxation_ladder(min_quality: float = SLIVER_QUALITY) -> tuple:
     Ordered by what an artist notices least: first let faces turn further and accept
     thinner triangles (what a low LOD needs on a curved cap), then let seam ends slide
     along their seams (the UV layout keeps its islands), then drop the sliver and UV-area
-    floors, and last let collapses cross seams and UVs flip (the texture distorts, but a
-    36-triangle LOD is seen from far away). Each step keeps the previous ones' relaxations.
+    floors, and last let collapses cross seams, UVs flip and feature corners move (the
+    texture distorts and a box loses its corners, but a 36-triangle LOD is seen from far
+    away, and eight kept corners would hold a box at twelve triangles). Each step keeps
+    the previous ones' relaxations.
     """
     strict = Thresholds(0, min_normal_cosine=0.2, min_quality=min_quality, seams="kept",
                         min_uv_area_kept=0.05, uv_flip=True)
     turns = replace(strict, step=1, min_normal_cosine=0.0, min_quality=0.5 * min_quality)
     ends = replace(turns, step=2, seams="slide")
     floors = replace(ends, step=3, min_quality=0.0, min_uv_area_kept=0.0)
-    anything = replace(floors, step=4, seams="free", uv_flip=False)
+    anything = replace(floors, step=4, seams="free", uv_flip=False, corners_kept=False)
     return (strict, turns, ends, floors, anything)

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import checks
+from . import checks, pose_quadrics
+from .features import DEFAULT_FEATURE_ANGLE
 from .guards import SLIVER_QUALITY
 from .weld import weld_map
 
@@ -48,6 +49,7 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
+    poses: object = None  # (skin weights, normalised matrices, weight): core.pose_quadrics
 
 
 def validate_and_prepare(vertices, faces, targets, options) -> Problem:
@@ -57,7 +59,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
         "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
         "weld_distance", "probabilistic_sigma", "feature_angle", "min_quality",
-        "remove_small_components",
+        "remove_small_components", *pose_quadrics.OPTIONS,
     }
     unknown = set(options) - known
     if unknown:
@@ -98,7 +100,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
             raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
     fe = checks.edge_list(o.get("feature_edges") if o.get("feature_edges") is not None else [], n, "feature_edges")
     feature_weight = checks.non_negative(o.get("feature_weight", 1.0), "feature_weight")
-    feature_angle = o.get("feature_angle")
+    feature_angle = o.get("feature_angle", DEFAULT_FEATURE_ANGLE)
     if feature_angle is not None:
         feature_angle = checks.non_negative(feature_angle, "feature_angle")
         if feature_angle >= 180:
@@ -188,6 +190,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         input_vertices=n,
         input_faces=m,
         welded=welded,
+        poses=pose_quadrics.from_options(o, n, center, scale),
     )
 
 

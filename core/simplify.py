@@ -5,6 +5,7 @@ from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
+from .features import DEFAULT_FEATURE_ANGLE
 from .guards import SLIVER_QUALITY
 from .result import SimplifyResult
 from . import engine, prepare
@@ -34,7 +35,7 @@ def simplify(
     edge_weights=None,
     weld_distance: Optional[float] = None,
     probabilistic_sigma: float = 0.0,
-    feature_angle: Optional[float] = None,
+    feature_angle: Optional[float] = DEFAULT_FEATURE_ANGLE,
     min_quality: float = SLIVER_QUALITY,
     remove_small_components: bool = False,
 ) -> SimplifyResult:
@@ -56,10 +57,12 @@ def simplify(
       locked: (n,) bool, vertices that never move and are never removed.
       feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)
         weighted by ``feature_weight`` or by per-edge ``edge_weights`` (k,).
-      feature_angle: degrees in [0, 180), or None/0 (off): interior edges whose faces'
-        normals differ by more than this are creases, kept softly like ``feature_edges``
-        (weighted by ``feature_weight``), and vertices where three or more creases or
-        feature edges meet (corners) never move.
+      feature_angle: degrees in [0, 180) (80 by default), or None/0 (off): interior edges
+        whose faces' normals differ by more than this are creases, kept softly like
+        ``feature_edges`` (weighted by ``feature_weight``); vertices where three or more
+        creases or feature edges meet, and open-boundary vertices where the boundary
+        turns by more than the angle, are corners and stay put (unless the target cannot
+        be reached otherwise).
       min_quality: in [0, 1], the triangle quality (4 sqrt(3) area / sum of squared edges;
         1 for equilateral) below which no collapse may turn a face (0.3 by default, 0 turns
         the rule off): lower it for closer hard-surface shapes at the cost of slivers.

@@ -501,7 +501,7 @@ PANEL_DEFAULTS = {
     "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"], "levels": ["Levels", "3"],
     "level_factor": ["Factor", "0.50"], "remove_small_components": ["Remove Small Parts", ""],
     "line_weight": ["Uniformity", "0.0010"], "min_quality": ["Min Quality", "0.30"],
-    "feature_angle": ["Feature Angle", "0.0"],
+    "feature_angle": ["Feature Angle", "80.0"],
     "importance_source": ["Source", "None"],
     "preserve_boundaries": ["Boundaries", ""], "boundary_strength": ["", "1.00"],
     "preserve_seams": ["UV Seams", ""], "seam_strength": ["", "1.00"],

@@ -78,7 +78,9 @@ def test_boundary_quadrics_hold_the_border(name):
     be = mg.boundary_edges(F)
 
     def deviation(bw):
-        r = core.simplify(V, F, ratio=0.2, boundary_weight=bw)
+        # Feature angle off: its boundary corners would hold a straight-edged border on
+        # their own, and this is about the boundary planes.
+        r = core.simplify(V, F, ratio=0.2, boundary_weight=bw, feature_angle=None)
         b = np.unique(mg.boundary_edges(r.faces))
         return mg.distance_to_polyline(r.vertices[b], V, be).max()
 

@@ -51,12 +51,13 @@ def test_rules_table_names_every_relaxable_rule_the_ladder_changes():
         assert b.step == a.step + 1
         assert b.min_normal_cosine <= a.min_normal_cosine and b.min_quality <= a.min_quality
         assert order[b.seams] >= order[a.seams] and b.min_uv_area_kept <= a.min_uv_area_kept
-        assert b.uv_flip <= a.uv_flip
+        assert b.uv_flip <= a.uv_flip and b.corners_kept <= a.corners_kept
     # The loosest step relaxes every quality rule; turning over is never allowed.
     last = ladder[-1]
     assert last.min_normal_cosine == 0.0 and last.min_quality == 0 and last.seams == "free"
+    assert not last.uv_flip and not last.corners_kept
     relaxable = {r.name for r in RULES if r.relaxes}
-    assert relaxable == {"normal_turn", "sliver", "seams", "uv_area", "uv_flip"}
+    assert relaxable == {"normal_turn", "sliver", "seams", "uv_area", "uv_flip", "feature_corners"}
     assert {"link_condition", "no_turn_over", "boundaries_stay"} <= {r.name for r in RULES if not r.relaxes}
 
 
@@ -212,6 +213,31 @@ def test_feature_angle_keeps_corners_exactly(ratio):
     np.testing.assert_array_equal(r.vertices[rows], V[r.vertex_origin[rows]])
 
 
+def test_feature_corners_give_way_only_to_a_target_that_needs_it():
+    # Eight kept corners hold a closed box at 12 triangles; asked for 4, the corner rule
+    # relaxes (last of the ladder) and the box becomes a tetrahedron.
+    V, F = _bevel_box(4)
+    r = core.simplify(V, F, target_faces=4, feature_angle=45)
+    mg.assert_valid_result(r, V, F)
+    assert len(r.faces) == 4 and r.stats.stop_reason == "target_reached"
+    assert not relaxation_ladder()[r.stats.relaxation_step].corners_kept
+
+
+def test_flat_logo_keeps_its_outline_corners_exactly():
+    """An L-shaped flat logo: its six outline corners are boundary turns, not creases."""
+    V, F = mg.grid(40, jitter=0.2, seed=1)
+    centre = V[F].mean(axis=1)
+    F = F[(centre[:, 0] < 0.4) | (centre[:, 1] < 0.3)]
+    corners = np.array([[0, 0], [1, 0], [1, 0.3], [0, 1]])  # grid border corners: never jittered
+    ids = [int(np.argmin(np.linalg.norm(V[:, :2] - c, axis=1))) for c in corners]
+    for ratio in (0.1, 0.03):
+        r = core.simplify(V, F, ratio=ratio, feature_angle=45)
+        assert r.stats.stop_reason == "target_reached"
+        for i in ids:
+            row = np.flatnonzero(r.vertex_origin == i)
+            assert len(row) == 1 and np.array_equal(r.vertices[row[0]], V[i])
+
+
 def test_feature_angle_keeps_creases_closer_than_without():
     V, F = _bevel_box(12)
     on_edge = np.sum(np.isclose(np.abs(V), 1.0), axis=1) >= 2
@@ -222,7 +248,7 @@ def test_feature_angle_keeps_creases_closer_than_without():
         E = mg.edge_table(r.faces)[0]
         return mg.distance_to_polyline(crease_points, r.vertices, E).max()
 
-    off = core.simplify(V, F, ratio=0.05, line_weight=0.05)
+    off = core.simplify(V, F, ratio=0.05, line_weight=0.05, feature_angle=None)
     on = core.simplify(V, F, ratio=0.05, line_weight=0.05, feature_angle=45)
     assert crease_error(on) < 0.6 * crease_error(off)
 
@@ -252,7 +278,10 @@ def test_bad_new_options_are_named(kw, message):
 
 def test_feature_angle_zero_or_none_is_off():
     V, F = _bevel_box()
-    a = core.simplify(V, F, ratio=0.2)
-    b = core.simplify(V, F, ratio=0.2, feature_angle=0)
-    c = core.simplify(V, F, ratio=0.2, feature_angle=None)
-    assert np.array_equal(a.faces, b.faces) and np.array_equal(a.faces, c.faces)
+    default = core.simplify(V, F, ratio=0.05)
+    at_80 = core.simplify(V, F, ratio=0.05, feature_angle=80)
+    off = core.simplify(V, F, ratio=0.05, feature_angle=0)
+    none = core.simplify(V, F, ratio=0.05, feature_angle=None)
+    assert np.array_equal(default.vertices, at_80.vertices)  # 80 degrees is the default
+    assert np.array_equal(off.vertices, none.vertices) and np.array_equal(off.faces, none.faces)
+    assert not np.array_equal(off.vertices, default.vertices)
