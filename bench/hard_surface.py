@@ -25,10 +25,10 @@ from run import welded
 
 SETTINGS = (
     {},
-    {"feature_angle": 60},
+    {"feature_angle": 0},
     {"min_quality": 0.0},
     {"line_weight": 0.0},
-    {"line_weight": 0.0, "feature_angle": 60},
+    {"line_weight": 0.0, "feature_angle": 0},
     {"line_weight": 0.0, "min_quality": 0.0},
 )
 
