@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import components, features, pose_quadrics, quadrics, selection, topology, validation, vertex_quadrics
+from . import components, features, quadrics, selection, topology, validation, vertex_quadrics
 from .guards import relaxation_ladder
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
@@ -104,8 +104,6 @@ def run(p: Problem) -> list:
         p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
         feature_edges, feature_weights, p.probabilistic_sigma,
     )
-    if p.poses is not None:  # a skinned mesh's error in sample poses (core.pose_quadrics)
-        Q += pose_quadrics.build(p.vertices, F, *p.poses)
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
     locked = p.locked | _non_manifold_vertices(conn, F, n)
     names = list(p.vertex_attributes)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import checks, pose_quadrics
+from . import checks
 from .features import DEFAULT_FEATURE_ANGLE
 from .guards import SLIVER_QUALITY
 from .weld import weld_map
@@ -49,7 +49,6 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
-    poses: object = None  # (skin weights, normalised matrices, weight): core.pose_quadrics
 
 
 def validate_and_prepare(vertices, faces, targets, options) -> Problem:
@@ -59,7 +58,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
         "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
         "weld_distance", "probabilistic_sigma", "feature_angle", "min_quality",
-        "remove_small_components", *pose_quadrics.OPTIONS,
+        "remove_small_components",
     }
     unknown = set(options) - known
     if unknown:
@@ -190,7 +189,6 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         input_vertices=n,
         input_faces=m,
         welded=welded,
-        poses=pose_quadrics.from_options(o, n, center, scale),
     )
 
 
