@@ -217,8 +217,9 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         f"equilateral; default {d.min_quality:g}); 0 with --line-weight 0 gives "
                         "the closest shape on hard-surface parts, at the cost of slivers")
     g.add_argument("--feature-angle", type=_number, default=d.feature_angle, metavar="DEG",
-                   help="edges whose faces meet at more than DEG degrees are kept like sharp edges "
-                        "and their corners stay in place (hard-surface parts: try 60; default 0 = off)")
+                   help="edges whose faces' normals differ by more than DEG degrees are kept like "
+                        "sharp edges, and their corners (and sharp turns of open borders) stay in "
+                        f"place (default {d.feature_angle:g}; 0 = off)")
     g.add_argument("--remove-small-components", action="store_true",
                    help="when a target cannot be reached otherwise, delete the smallest separate "
                         "parts (bolts, leaf cards) rather than stop above it")

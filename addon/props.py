@@ -66,9 +66,10 @@ def settings_properties(operator: bool = False) -> dict:
                         "clean triangles. Relaxed automatically only when the target needs it", **opts),
         "feature_angle": FloatProperty(
             name="Feature Angle", default=d.feature_angle, min=0.0, max=179.0, precision=1,
-            description="Degrees: edges whose faces meet at more than this are kept like sharp "
-                        "edges, and corners where three of them meet stay in place; for "
-                        "hard-surface parts (try 60). 0 turns it off (organic meshes)", **opts),
+            description="Degrees: edges whose faces' normals differ by more than this are kept "
+                        "like sharp edges, and corners where three of them meet (or where an open "
+                        "border turns this sharply) stay in place. 80 keeps the right angles of "
+                        "hard-surface parts; below about 60 organic meshes suffer. 0 turns it off", **opts),
         "remove_small_components": BoolProperty(
             name="Remove Small Parts", default=d.remove_small_components,
             description="When the target needs it, delete the smallest separate parts (bolts, "
