@@ -32,6 +32,7 @@ from .result import (
 )
 from .wedges import Wedges
 from .geometry import edge_parameter, face_frames, rows
+from .metrics import triangle_quality
 
 # Selection rounds per pass: more rounds, more collapses per connectivity update.
 SELECTION_ROUNDS = 4
@@ -91,6 +92,7 @@ class State:
     ladder: tuple = ()  # core.guards.relaxation_ladder of this run
     guards: object = None  # the ladder step in force
     removed_components: int = 0
+    face_quality: object = None  # (m,) triangle quality of every live face
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
 
 
@@ -121,6 +123,7 @@ def run(p: Problem) -> list:
         ladder=relaxation_ladder(p.min_quality),
     )
     s.guards = s.ladder[0]
+    s.face_quality = triangle_quality(s.V, s.F)
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
@@ -188,6 +191,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
             return STOP_MAX_ERROR
         cand = cand.subset(within)
         mean_sq = mean_sq[within]
+    cand = _slivers_first(s, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
@@ -220,6 +224,26 @@ def _features(p: Problem, conn) -> tuple:
         corners = features.corners(edges, n) | features.boundary_corners(p.vertices, conn, p.feature_angle)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
+
+
+def _slivers_first(s: State, conn, cand):
+    """Candidates whose edge is on a sliver rank cheaper, by the square of how far the
+    sliver falls short of the quality floor: the sliver rule keeps new slivers out, and
+    this takes the input's own out early, while their collapses are still cheap. Costs
+    for max_error and the reported error stay undiscounted (computed before)."""
+    floor = s.guards.min_quality
+    if floor <= 0 or len(cand.edge) == 0:
+        return cand
+    q = s.face_quality
+    q0 = q[conn.edge_face0[cand.edge]]
+    f1 = conn.edge_face1[cand.edge]
+    q1 = np.where(f1 >= 0, q[np.maximum(f1, 0)], 1.0)
+    worst = np.minimum(q0, q1)
+    thin = worst < floor
+    if not thin.any():
+        return cand
+    factor = np.where(thin, (worst / floor) ** 4, 1.0)
+    return selection.Candidates(cand.edge, cand.keep, cand.remove, cand.position, cand.cost * factor)
 
 
 def _source_normals(p: Problem) -> np.ndarray:
@@ -349,6 +373,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.face_count[remove] = 0
     s.F = np.compress(alive, F, axis=0)  # 4x faster than F[alive] on rows
     s.face_origin = s.face_origin.compress(alive)
+    s.face_quality = s.face_quality.compress(alive)
     carried = topology.after_collapses(conn, alive, remap, remove)
     if carried is None:  # only if the collapses were not independent: start afresh
         s.conn = topology.build(s.F, len(s.V))
@@ -361,7 +386,9 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
-    s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
+    around_faces = np.compress(around, s.F, axis=0)
+    s.touched[around_faces.ravel()] = pass_no
+    s.face_quality[around] = triangle_quality(s.V, around_faces)
 
 
 def _drop_faces(s: State, alive):
@@ -369,6 +396,7 @@ def _drop_faces(s: State, alive):
     np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
     s.F = np.compress(alive, s.F, axis=0)
     s.face_origin = s.face_origin.compress(alive)
+    s.face_quality = s.face_quality.compress(alive)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     s.conn = topology.build(s.F, len(s.V))

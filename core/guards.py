@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 
 # Triangle quality (4 sqrt(3) area / sum of squared edges) below which a face counts as
 # a sliver: the default of ``min_quality`` and the threshold of every report.
-SLIVER_QUALITY = 0.3
+from .metrics import SLIVER_QUALITY  # noqa: E402  (defined once, beside the quality metric)
 
 
 @dataclass(frozen=True)
