@@ -120,6 +120,9 @@ def test_targets_chain_and_errors():
     ("levels", 0, "levels"),
     ("level_factor", 1.0, "level factor"),
     ("line_weight", -1.0, "line weight"),
+    ("min_quality", 1.2, "min triangle quality"),
+    ("feature_angle", 180.0, "feature angle"),
+    ("feature_angle", -1.0, "feature angle"),
 ])
 def test_validate_rejects_bad_values(field, value, message):
     with pytest.raises(LodError, match=message):

@@ -14,7 +14,8 @@ from bpy_harness import REPO_ROOT, isolated_blender_env
 REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",
                     "--jobs", "--line-weight", "--importance-group", "--from-armature", "--strength",
                     "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
-                    "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials"]
+                    "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials", "--min-quality",
+                    "--feature-angle", "--remove-small-components"]
 
 
 def parse(*argv):
@@ -110,6 +111,15 @@ def test_check_args_rules():
     assert cli.check_args(parse("--faces", "100", "100", "--report", "r.json")) == [
         "--faces must decrease (each LOD smaller than the one before), got 100 100"]
     assert cli.check_args(parse("--line-weight", "-1", "--report", "r.json")) == ["--line-weight must be >= 0, got -1"]
+    assert cli.check_args(parse("--min-quality", "1.5", "--report", "r.json")) == [
+        "--min-quality must be between 0 and 1, got 1.5"]
+    assert cli.check_args(parse("--feature-angle", "180", "--report", "r.json")) == [
+        "--feature-angle must be in degrees from 0 (off) to below 180, got 180"]
+    settings = cli._settings(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
+                                   "--report", "r.json"))
+    assert (settings.min_quality, settings.feature_angle, settings.remove_small_components) == (0.0, 0.0, True)
+    defaults = cli._settings(parse("--report", "r.json"))
+    assert (defaults.min_quality, defaults.feature_angle, defaults.remove_small_components) == (0.3, 80.0, False)
     assert cli.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
         "--format goes with --output-dir; the --output file's extension picks its format"]
     assert cli.check_args(parse("--importance-group", " ", "--report", "r.json")) == [
