@@ -16,8 +16,8 @@ them (Preferences > Themes), at Blender's 20 px unit, with DejaVu Sans instead o
 Blender's Inter and without icons.
 
 Panel states: the defaults with the Monkey active; after the real Paint Importance
-operator (it selects the Monkey's painted group "LOD_Importance" as the source; Soft,
-strength 1 are the defaults); after the real Generate LODs operator, called with exactly
+operator (it selects the Monkey's painted group "LOD_Importance" as the source; strength
+0.5 is the default); after the real Generate LODs operator, called with exactly
 the properties the panel's button carries, with the default settings (the Last Run
 report filled in).
 Renders (bench/render.py: Cycles on the CPU, shaded with wireframe, one camera): the
@@ -478,7 +478,7 @@ def main() -> None:
           f"`{preview(d['by_count'])}`, greyed out: {', '.join(greyed(d['by_count'])) or 'nothing'}.")
     draw_panel(d["importance"], title, theme, "panel_importance.png")
     print(f'`panel_importance.png`: the same after **Paint Importance**, which selected the Monkey\'s painted group '
-          f'"{GROUP}" as the source (Vertex Group; Soft and strength 1 are the defaults).')
+          f'"{GROUP}" as the source (Vertex Group; strength 0.5, the default).')
     draw_panel(d["last_run"], title, theme, "panel_last_run.png")
     levels = rep["levels"]
     print(f"`panel_last_run.png`: the panel after **Generate LODs** with the default settings on the Monkey "
@@ -493,7 +493,7 @@ def main() -> None:
     shares = [painted_share(F, w) for _V, F, w in (d["source"], base_last, soft_last)]
     titles = [f"Monkey, {GROUP}\n{len(F0):,} triangles, {shares[0]:.1f} % painted",
               f"LOD{k}, importance None\n{len(base_last[1]):,} triangles, {shares[1]:.1f} % painted",
-              f"LOD{k}, Vertex Group (Soft, 1)\n{len(soft_last[1]):,} triangles, {shares[2]:.1f} % painted"]
+              f"LOD{k}, Vertex Group (strength 0.5)\n{len(soft_last[1]):,} triangles, {shares[2]:.1f} % painted"]
     secs = render_set([d["source"], base_last, soft_last], titles, "panel_weights.png", args, V0, colors=True)
     painted_vertices = int(np.count_nonzero(w0 > 0))
     print(f'`panel_weights.png`: the Monkey\'s painted "{GROUP}" weights in Blender\'s weight-paint colours '
