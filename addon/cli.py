@@ -218,7 +218,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "the closest shape on hard-surface parts, at the cost of slivers")
     g.add_argument("--feature-angle", type=_number, default=d.feature_angle, metavar="DEG",
                    help="edges whose faces' normals differ by more than DEG degrees are kept like "
-                        "sharp edges, and their corners (and sharp turns of open borders) stay in "
+                        "sharp edges, and their corners (and turns of open borders by half as much) stay in "
                         f"place (default {d.feature_angle:g}; 0 = off)")
     g.add_argument("--remove-small-components", action="store_true",
                    help="when a target cannot be reached otherwise, delete the smallest separate "

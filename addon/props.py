@@ -68,7 +68,7 @@ def settings_properties(operator: bool = False) -> dict:
             name="Feature Angle", default=d.feature_angle, min=0.0, max=179.0, precision=1,
             description="Degrees: edges whose faces' normals differ by more than this are kept "
                         "like sharp edges, and corners where three of them meet (or where an open "
-                        "border turns this sharply) stay in place. 80 keeps the right angles of "
+                        "border turns by half as much) stay in place. 80 keeps the right angles of "
                         "hard-surface parts; below about 60 organic meshes suffer. 0 turns it off", **opts),
         "remove_small_components": BoolProperty(
             name="Remove Small Parts", default=d.remove_small_components,

@@ -211,7 +211,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
 def _features(p: Problem, conn) -> tuple:
     """The given feature edges plus the creases sharper than ``feature_angle`` (each
     edge once, the given weight winning), their weights, and the (n,) corners: where
-    three or more of them meet, and where an open boundary turns by more than the angle."""
+    three or more of them meet, and where an open boundary turns by more than half the angle."""
     edges, weights = p.feature_edges, p.feature_edge_weights
     if p.feature_angle:
         crease = conn.edges[features.crease_edges(p.vertices, p.faces, conn, p.feature_angle)]
@@ -221,7 +221,8 @@ def _features(p: Problem, conn) -> tuple:
             if len(given) else np.ones(len(crease), dtype=bool)
         edges = np.concatenate([edges.reshape(-1, 2), crease[new]])
         weights = np.concatenate([weights, np.full(int(new.sum()), p.feature_weight)])
-        corners = features.corners(edges, n) | features.boundary_corners(p.vertices, conn, p.feature_angle)
+        corners = features.corners(edges, n) | features.boundary_corners(
+            p.vertices, p.faces, conn, p.feature_angle * features.BORDER_ANGLE_SHARE)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
 

@@ -22,6 +22,14 @@ from .topology import Connectivity
 # from 0.78x to 0.95x; at 60 degrees beast's mean triangle quality lost 0.013, at 30
 # degrees beast's Hausdorff distance grew 4.5x (docs/parameters.md).
 DEFAULT_FEATURE_ANGLE = 80.0
+# An open border is a silhouette against whatever is behind it, and its corners are the
+# outline of a flat part (a logo, a decal, a card): a border turning by half the feature
+# angle is a corner. At the default that keeps a star's inner corners (72 degrees) and a
+# hexagon's (60) while a circle tessellated in 12 or more segments stays free. Measured at
+# 10 %: the bunny's jagged scan holes get 107 such corners among their 223 border vertices
+# and its Hausdorff distance went from 0.95x to 0.68x of Decimate's, mean distance and
+# quality unchanged; the ogre's 200 border edges have none.
+BORDER_ANGLE_SHARE = 0.5
 
 
 def crease_edges(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
@@ -43,10 +51,12 @@ def corners(edges: np.ndarray, n_vertices: int) -> np.ndarray:
     return np.bincount(np.asarray(edges).ravel(), minlength=n_vertices) >= 3
 
 
-def boundary_corners(vertices: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
+def boundary_corners(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
     """(n,) bool: open-boundary vertices where the boundary turns by more than
-    ``angle_degrees`` (the corners of a flat logo or a cut-out panel), and those where
-    more than two boundary edges meet."""
+    ``angle_degrees`` within the surface (the corners of a flat logo or a cut-out panel),
+    and those where more than two boundary edges meet. The turn is measured in the
+    vertex's tangent plane, so a border that only wobbles out of the surface (noise on a
+    scanned sheet) has no corners."""
     n = len(vertices)
     border = conn.edges[conn.edge_faces == 1]
     corner = np.zeros(n, dtype=bool)
@@ -63,6 +73,13 @@ def boundary_corners(vertices: np.ndarray, conn: Connectivity, angle_degrees: fl
     v = ends[pairs]
     into = vertices[v] - vertices[others[pairs]]
     out = vertices[others[pairs + 1]] - vertices[v]
+    normals, areas = face_frames(vertices, faces)
+    corner_of = faces.ravel()
+    normal = np.stack([np.bincount(corner_of, weights=np.repeat(normals[:, j] * areas, 3), minlength=n)[v]
+                       for j in range(3)], axis=1)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    into -= normal * np.einsum("ij,ij->i", into, normal)[:, None]
+    out -= normal * np.einsum("ij,ij->i", out, normal)[:, None]
     length = np.linalg.norm(into, axis=1) * np.linalg.norm(out, axis=1)
     cosine = np.einsum("ij,ij->i", into, out) / np.maximum(length, 1e-300)
     corner[v[cosine < np.cos(np.radians(angle_degrees))]] = True

@@ -61,8 +61,8 @@ def simplify(
         whose faces' normals differ by more than this are creases, kept softly like
         ``feature_edges`` (weighted by ``feature_weight``); vertices where three or more
         creases or feature edges meet, and open-boundary vertices where the boundary
-        turns by more than the angle, are corners and stay put (unless the target cannot
-        be reached otherwise).
+        turns by more than half the angle, are corners and stay put (unless the target
+        cannot be reached otherwise).
       min_quality: in [0, 1], the triangle quality (4 sqrt(3) area / sum of squared edges;
         1 for equilateral) below which no collapse may turn a face (0.3 by default, 0 turns
         the rule off): lower it for closer hard-surface shapes at the cost of slivers.

@@ -238,6 +238,47 @@ def test_flat_logo_keeps_its_outline_corners_exactly():
             assert len(row) == 1 and np.array_equal(r.vertices[row[0]], V[i])
 
 
+def _star(points=5, inner=0.45, rings=12):
+    """A flat star-shaped logo, triangulated in rings from its centre: outline vertices at
+    the tips (turning 144 degrees) and at the inner corners (turning 72)."""
+    angles = np.pi / 2 + np.arange(2 * points) * np.pi / points
+    outline = np.c_[np.cos(angles), np.sin(angles)] * np.where(np.arange(2 * points) % 2, inner, 1.0)[:, None]
+    # Subdivide every outline edge, then fill with rings shrinking to the centre.
+    k = 6
+    t = np.arange(k) / k
+    edge_pts = (outline[:, None] * (1 - t)[None, :, None] + np.roll(outline, -1, 0)[:, None] * t[None, :, None]).reshape(-1, 2)
+    m = len(edge_pts)
+    V = [np.zeros((1, 2))]
+    for r in range(1, rings + 1):
+        V.append(edge_pts * r / rings)
+    V = np.concatenate(V)
+    F = [np.c_[np.zeros(m, int), 1 + np.arange(m), 1 + (np.arange(m) + 1) % m]]
+    for r in range(1, rings):
+        a = 1 + (r - 1) * m + np.arange(m)
+        b = 1 + r * m + np.arange(m)
+        a1, b1 = 1 + (r - 1) * m + (np.arange(m) + 1) % m, 1 + r * m + (np.arange(m) + 1) % m
+        F += [np.c_[a, b, b1], np.c_[a, b1, a1]]
+    F = np.concatenate(F)
+    corner_ids = 1 + (rings - 1) * m + np.arange(0, m, k)
+    return np.c_[V, np.zeros(len(V))], F.astype(np.int64), corner_ids
+
+
+@pytest.mark.parametrize("ratio", [0.2, 0.05])
+def test_star_logo_keeps_tips_and_inner_corners_with_the_defaults(ratio):
+    V, F, corners = _star()
+    assert len(corners) == 10
+    r = core.simplify(V, F, ratio=ratio)
+    mg.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "target_reached"
+    def kept_exactly(result):
+        return [bool(np.any((result.vertex_origin == i) & np.all(result.vertices == V[i], axis=1)))
+                for i in corners]
+
+    assert all(kept_exactly(r))
+    # With the feature angle off, the same run moves or removes some of them.
+    assert not all(kept_exactly(core.simplify(V, F, ratio=ratio, feature_angle=0)))
+
+
 def test_feature_angle_keeps_creases_closer_than_without():
     V, F = _bevel_box(12)
     on_edge = np.sum(np.isclose(np.abs(V), 1.0), axis=1) >= 2
