@@ -3,15 +3,22 @@
 #   ./lod.sh demo              provision, then make LODs of the built-in sample into out/sample
 #   ./lod.sh test [pytest ...] provision, then run the whole test suite
 #   ./lod.sh run  [cli ...]    provision, then run the command line with your arguments
+#   ./lod.sh CMD --blender X.Y ...  the same against another Blender line (e.g. 5.2)
 # Provisioning (tools/env.sh) creates .venv inside this folder once, with the pinned bpy
-# module (Blender 4.5 LTS); later runs reuse it and start in seconds.
+# module (Blender 4.5 LTS); later runs reuse it and start in seconds. Another Blender line
+# gets its own virtualenv under .venvs/ (with the Python its bpy module needs).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+if [ "${2:-}" = "--blender" ]; then
+  [ -n "${3:-}" ] || { echo "error: --blender needs a version, e.g. --blender 5.2" >&2; exit 2; }
+  export LQLOD_BLENDER="$3"
+  set -- "$1" "${@:4}"
+fi
 # shellcheck source=tools/env.sh
 source "$ROOT/tools/env.sh"
 
 usage() {
-  sed -n '2,5s/^# \{0,1\}//p' "$0" >&2
+  sed -n '2,6s/^# \{0,1\}//p' "$0" >&2
 }
 
 require_cli() {
@@ -42,7 +49,7 @@ case "$cmd" in
     ensure_env
     # The tests isolate every Blender child themselves (tests/bpy_harness.py); this also
     # keeps anything that slips past them away from the real ~/.config/blender.
-    LQLOD_BLENDER_HOME="$ROOT/.blender-user/tests" isolate_blender_user_dirs
+    LQLOD_BLENDER_HOME="$ROOT/.blender-user/tests-$BLENDER" isolate_blender_user_dirs
     cd "$ROOT"
     exec "$VENV/bin/python" -m pytest "$@"
     ;;

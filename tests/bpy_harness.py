@@ -142,7 +142,14 @@ _result_path, _repo_root, _load_prefs = sys.argv[1], sys.argv[2], sys.argv[3] ==
 sys.path.append(_repo_root)
 import bpy
 if _load_prefs:
-    bpy.ops.wm.read_userpref()
+    if bpy.app.version < (4, 3, 0):
+        # The bpy module of Blender 4.2 crashes (signal 11) in wm.read_userpref(), also with
+        # no add-on installed and no preferences saved: enable the installed extension the
+        # way its saved preferences would (docs/install.md, tested versions).
+        import addon_utils
+        addon_utils.enable(%(ext)r, default_set=True, persistent=True)
+    else:
+        bpy.ops.wm.read_userpref()
 _ns = {"__name__": "__main__", "bpy": bpy, "RESULT": {}, "EXT": %(ext)r,
        "REPO_ROOT": _repo_root, "EXT_PKG": sys.modules.get(%(ext)r)}
 try:

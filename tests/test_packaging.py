@@ -15,7 +15,7 @@ import bpy_harness
 from bpy_harness import run_in_blender
 
 OPERATORS = ("line_quadric_lod", "line_quadric_lod_paint", "line_quadric_lod_from_armature")
-DEV_ONLY_TOP = ("tests/", "docs/", "bench/", ".ci/", "tools/", ".venv/", ".blender-user/", "out/", "dist/")
+DEV_ONLY_TOP = ("tests/", "docs/", "bench/", ".ci/", "tools/", ".venv/", ".venvs/", ".blender-user/", "out/", "dist/")
 DEV_ONLY_FILES = ("lod.sh", "requirements-dev.txt", "requirements-peers.txt", "pyproject.toml", ".gitignore")
 
 

@@ -4,11 +4,46 @@
 # and the test tools. Re-provisions only when requirements-dev.txt changes.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-VENV="$ROOT/.venv"
-REQ="$ROOT/requirements-dev.txt"
+REQ_DEV="$ROOT/requirements-dev.txt"
+# The Blender line requirements-dev.txt pins (its `bpy==X.Y.*` line): the default.
+DEFAULT_BLENDER="$(sed -n 's/^bpy==\([0-9]*\.[0-9]*\).*/\1/p' "$REQ_DEV")"
+# LQLOD_BLENDER=X.Y (or `./lod.sh test --blender X.Y`) picks another Blender line: its
+# own virtualenv under .venvs/, the same requirements with that bpy.
+BLENDER="${LQLOD_BLENDER:-$DEFAULT_BLENDER}"
+if [ "$BLENDER" = "$DEFAULT_BLENDER" ]; then
+  VENV="$ROOT/.venv"
+  REQ="$REQ_DEV"
+else
+  VENV="$ROOT/.venvs/blender-$BLENDER"
+  REQ="$VENV.requirements.txt"
+  mkdir -p "$ROOT/.venvs"
+  sed "s/^bpy==.*/bpy==$BLENDER.*/" "$REQ_DEV" > "$REQ.tmp" && mv "$REQ.tmp" "$REQ"
+fi
 STAMP="$VENV/.requirements.sha256"
-PY="${PYTHON:-python3.11}"
-command -v "$PY" >/dev/null 2>&1 || PY=python3
+
+# The Python each bpy module is built for: Blender 4.x and 5.0 use 3.11, 5.1 and later 3.13.
+python_for_blender() {
+  case "$1" in
+    4.*|5.0) echo 3.11 ;;
+    *) echo 3.13 ;;
+  esac
+}
+
+# A python of version $1 that runs: $PYTHON if set, else pythonX.Y on PATH, else pyenv's.
+find_python() {
+  local want="$1" cand
+  if [ -n "${PYTHON:-}" ]; then
+    echo "$PYTHON"
+    return 0
+  fi
+  for cand in "python$want" "${PYENV_ROOT:-$HOME/.pyenv}"/versions/"$want".*/bin/"python$want"; do
+    if "$cand" -c 'import sys' >/dev/null 2>&1; then
+      echo "$cand"
+      return 0
+    fi
+  done
+  return 1
+}
 
 _env_ready() {
   [ -x "$VENV/bin/python" ] && [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$1" ]
@@ -34,17 +69,25 @@ ensure_env() {
 }
 
 _provision() {
-  local want="$1" ver
-  ver="$("$PY" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
-  if [ "$ver" != "3.11" ]; then
-    echo "error: the bpy module for Blender 4.5 needs Python 3.11, found $PY = $ver" >&2
-    echo "       set PYTHON=/path/to/python3.11" >&2
+  local want="$1" ver pyver PY
+  pyver="$(python_for_blender "$BLENDER")"
+  if ! PY="$(find_python "$pyver")"; then
+    echo "error: the bpy module for Blender $BLENDER needs Python $pyver, and none was found" >&2
+    echo "       (looked for python$pyver on PATH and under ${PYENV_ROOT:-$HOME/.pyenv}/versions)." >&2
+    echo "       Install it (e.g. 'pyenv install $pyver', or your system's python$pyver and" >&2
+    echo "       python$pyver-venv packages), or set PYTHON=/path/to/python$pyver" >&2
     exit 2
   fi
-  echo "[env] provisioning $VENV (first run downloads Blender 4.5 as the bpy module) ..." >&2
+  ver="$("$PY" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
+  if [ "$ver" != "$pyver" ]; then
+    echo "error: the bpy module for Blender $BLENDER needs Python $pyver, found $PY = $ver" >&2
+    echo "       set PYTHON=/path/to/python$pyver" >&2
+    exit 2
+  fi
+  echo "[env] provisioning $VENV (first run downloads Blender $BLENDER as the bpy module, Python $pyver) ..." >&2
   if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV" || {
-      echo "error: could not create a virtualenv; on Debian/Ubuntu: apt-get install python3.11-venv" >&2
+      echo "error: could not create a virtualenv; on Debian/Ubuntu: apt-get install python$pyver-venv" >&2
       exit 2
     }
   fi
