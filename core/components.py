@@ -23,7 +23,8 @@ def face_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
 
 
 def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int):
-    """(m,) bool of the faces to delete, or None when no part can go.
+    """((m,) bool of the faces to delete, how many parts they are), or None when no part
+    can go.
 
     Parts go smallest surface area first, as many as it takes to remove ``need`` faces,
     but the largest part always stays and so does every part with a locked vertex (what
@@ -48,4 +49,4 @@ def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray
     upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="left")) + 1
     drop = np.zeros(len(parts), dtype=bool)
     drop[spare[:upto]] = True
-    return drop[part_of_face]
+    return drop[part_of_face], int(drop.sum())

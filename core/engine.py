@@ -167,8 +167,9 @@ def _unstick(s: State, p: Problem, target: int):
     if p.remove_small_components:
         dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
         if dropped is not None:
-            _drop_faces(s, ~dropped)
-            s.removed_components += 1
+            faces, parts = dropped
+            _drop_faces(s, ~faces)
+            s.removed_components += parts
             return None
     return STOP_TOPOLOGY
 
