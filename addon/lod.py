@@ -155,6 +155,8 @@ def _core_options(obj, settings, data, g) -> tuple:
     feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
 
     options = dict(
+        # Shape keys count in the error too: the LOD stays close at each key's full value.
+        shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
         line_weight=float(settings.line_weight),
         min_quality=float(settings.min_quality),
         feature_angle=float(settings.feature_angle) or None,

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import components, features, quadrics, selection, topology, validation, vertex_quadrics
+from . import components, features, quadrics, selection, shape_keys, topology, validation, vertex_quadrics
 from .guards import relaxation_ladder
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
@@ -93,6 +93,9 @@ class State:
     removed_components: int = 0
     input_quality: object = None  # (input faces,) triangle quality, indexed like face_origin
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
+    key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
+    key_columns: tuple = ()  # slice of X holding each of those keys' offsets
+    key_scale: float = 1.0  # offsets are in input units; positions are normalised
 
 
 def run(p: Problem) -> list:
@@ -122,6 +125,8 @@ def run(p: Problem) -> list:
         ladder=relaxation_ladder(p.min_quality),
     )
     s.guards = s.ladder[0]
+    if p.shape_attributes:
+        _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
     s.input_quality[p.face_origin] = _face_quality(s.V, s.F)
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
@@ -151,6 +156,17 @@ def run(p: Problem) -> list:
             if p.progress(min(max(done, 0.0), 1.0)) is False:
                 raise SimplifyCancelled("simplification cancelled")
     return results
+
+
+def _shape_keys(s: State, p: Problem, names, X, area):
+    """Put the strongest shape keys in the error (core.shape_keys)."""
+    starts = np.cumsum([0] + [p.vertex_attributes[k].shape[1] for k in names])
+    columns = [slice(starts[names.index(k)], starts[names.index(k)] + 3) for k in p.shape_attributes]
+    s.key_scale = 1.0 / p.scale
+    offsets = np.stack([X[:, c] for c in columns]) * s.key_scale
+    chosen = shape_keys.strongest(offsets, area)
+    s.key_columns = tuple(columns[i] for i in chosen)
+    s.key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets[chosen])
 
 
 def _unstick(s: State, p: Problem, target: int):
@@ -380,6 +396,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
     s.V[keep] = pos
     quadrics.merge_rows(s.Q, keep, remove)
+    if s.key_quadrics is not None:
+        s.key_quadrics[:, keep] += s.key_quadrics[:, remove]
     s.area[keep] += s.area[remove]
     remap = np.arange(len(s.V))
     remap[remove] = keep

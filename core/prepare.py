@@ -44,6 +44,7 @@ class Problem:
     feature_angle: object  # degrees, or None: no creases found from the geometry
     min_quality: float
     remove_small_components: bool
+    shape_attributes: tuple  # names of vertex attributes that are shape-key offsets (n, 3)
     center: np.ndarray
     scale: float
     input_vertices: int
@@ -58,7 +59,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
         "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
         "weld_distance", "probabilistic_sigma", "feature_angle", "min_quality",
-        "remove_small_components",
+        "remove_small_components", "shape_attributes",
     }
     unknown = set(options) - known
     if unknown:
@@ -117,6 +118,10 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
             raise ValueError(f"edge_weights must have one value per feature edge ({len(fe)}), got shape {few.shape}")
         if not np.isfinite(few).all() or (few < 0).any():
             raise ValueError("edge_weights must be finite and >= 0")
+    shapes = tuple(o.get("shape_attributes") or ())
+    for name in shapes:
+        if name not in vattrs or vattrs[name].shape[1] != 3:
+            raise ValueError(f"shape_attributes names {name!r}, which is not a 3-component vertex attribute")
     weld_distance = o.get("weld_distance")
     if weld_distance is not None:
         weld_distance = float(weld_distance)
@@ -184,6 +189,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         feature_angle=feature_angle,
         min_quality=min_quality,
         remove_small_components=bool(o.get("remove_small_components", False)),
+        shape_attributes=shapes,
         center=center,
         scale=scale,
         input_vertices=n,

@@ -38,6 +38,7 @@ def simplify(
     feature_angle: Optional[float] = DEFAULT_FEATURE_ANGLE,
     min_quality: float = SLIVER_QUALITY,
     remove_small_components: bool = False,
+    shape_attributes: Sequence[str] = (),
 ) -> SimplifyResult:
     """Simplify a triangle mesh by edge collapse under quadric + line-quadric error.
 
@@ -81,6 +82,9 @@ def simplify(
       corner_attributes: {name: (m, 3, k)} per face corner (UVs, corner colours); an edge
         across which one of them is discontinuous is a seam, kept when preserve_seams.
       uv_attributes: names among corner_attributes (k = 2) whose triangles must not flip.
+      shape_attributes: names among vertex_attributes (k = 3) that are shape-key offsets
+        (mesh units): the LOD is kept close at each key's full value too, not only at rest
+        (the strongest 16 count; core.shape_keys).
       weld_distance: weld vertices closer than this before simplifying (split vertices of
         exported assets); None welds only exactly coincident ones, a negative value none.
 
@@ -117,6 +121,7 @@ def simplify(
         feature_angle=feature_angle,
         min_quality=min_quality,
         remove_small_components=remove_small_components,
+        shape_attributes=shape_attributes,
     )[0]
 
 
