@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import components, features, quadrics, selection, shape_keys, topology, validation, vertex_quadrics
+from . import components, features, quadrics, selection, shape_keys, slivers, topology, validation, vertex_quadrics
 from .guards import relaxation_ladder
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
@@ -31,7 +31,7 @@ from .result import (
     SimplifyStats,
 )
 from .wedges import Wedges
-from .geometry import cross, edge_parameter, face_frames, rows
+from .geometry import edge_parameter, face_frames, rows
 
 # Selection rounds per pass: more rounds, more collapses per connectivity update.
 SELECTION_ROUNDS = 4
@@ -128,7 +128,7 @@ def run(p: Problem) -> list:
     if p.shape_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
-    s.input_quality[p.face_origin] = _face_quality(s.V, s.F)
+    s.input_quality[p.face_origin] = slivers.face_quality(s.V, s.F)
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
@@ -208,7 +208,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
             return STOP_MAX_ERROR
         cand = cand.subset(within)
         mean_sq = mean_sq[within]
-    cand = _slivers_first(s, conn, cand)
+    cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
@@ -242,42 +242,6 @@ def _features(p: Problem, conn) -> tuple:
             p.vertices, p.faces, conn, p.feature_angle * features.BORDER_ANGLE_SHARE)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
-
-
-def _slivers_first(s: State, conn, cand):
-    """Candidates whose edge is on a sliver rank cheaper, by (quality / floor)^4: the
-    sliver rule keeps new slivers out, and this takes the input's own out early, while
-    their collapses are still cheap (at a square the Fox at 25 % kept both of its last
-    two). Costs for max_error and the reported error stay undiscounted (computed before).
-
-    Only faces descending from an input sliver can be one now: the rule never lets a face
-    drop below the floor, and a relaxed floor is only lower."""
-    floor = s.guards.min_quality
-    if floor <= 0 or len(cand.edge) == 0 or s.input_quality.min(initial=1.0) >= floor:
-        return cand
-    suspects = np.flatnonzero(np.take(s.input_quality, s.face_origin) < floor)
-    quality = _face_quality(s.V, np.take(s.F, suspects, axis=0))
-    thin = quality < floor
-    if not thin.any():
-        return cand
-    thin_faces, quality = suspects[thin], quality[thin]
-    # The few sliver faces name their edges; every other candidate keeps its cost.
-    edges = conn.he_edge[(3 * thin_faces[:, None] + np.arange(3)).ravel()]
-    worst = np.ones(len(conn.edges))
-    np.minimum.at(worst, edges, np.repeat(quality, 3))
-    factor = (np.take(worst, cand.edge) / floor) ** 4
-    return selection.Candidates(cand.edge, cand.keep, cand.remove, cand.position, cand.cost * np.minimum(factor, 1.0))
-
-
-def _face_quality(V, F) -> np.ndarray:
-    """(m,) triangle quality (core.metrics.triangle_quality, with the engine's faster row
-    gathers)."""
-    p0, p1, p2 = rows(V, F[:, 0]), rows(V, F[:, 1]), rows(V, F[:, 2])
-    a, b, c = p1 - p0, p2 - p1, p0 - p2
-    n = cross(a, c)
-    double_area = np.sqrt(np.einsum("ij,ij->i", n, n))
-    squares = np.einsum("ij,ij->i", a, a) + np.einsum("ij,ij->i", b, b) + np.einsum("ij,ij->i", c, c)
-    return 2.0 * np.sqrt(3.0) * double_area / np.maximum(squares, 1e-300)
 
 
 def _source_normals(p: Problem) -> np.ndarray:
