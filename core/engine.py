@@ -103,7 +103,8 @@ def run(p: Problem) -> list:
     n = len(p.vertices)
     F = p.faces
     conn = topology.build(F, n)
-    feature_edges, feature_weights, corners = _features(p, conn)
+    face_normals, face_areas = face_frames(p.vertices, F)
+    feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
     Q, area = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
         feature_edges, feature_weights, p.probabilistic_sigma,
@@ -121,7 +122,7 @@ def run(p: Problem) -> list:
         changed=np.zeros(n, dtype=bool),
         moved=np.zeros(n, dtype=bool),
         face_count=np.bincount(F.ravel(), minlength=n),
-        source_normals=_source_normals(p),
+        source_normals=_source_normals(p, face_normals),
         ladder=relaxation_ladder(p.min_quality),
     )
     s.guards = s.ladder[0]
@@ -225,13 +226,13 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     return None
 
 
-def _features(p: Problem, conn) -> tuple:
+def _features(p: Problem, conn, face_normals, face_areas) -> tuple:
     """The given feature edges plus the creases sharper than ``feature_angle`` (each
     edge once, the given weight winning), their weights, and the (n,) corners: where
     three or more of them meet, and where an open boundary turns by more than half the angle."""
     edges, weights = p.feature_edges, p.feature_edge_weights
     if p.feature_angle:
-        crease = conn.edges[features.crease_edges(p.vertices, p.faces, conn, p.feature_angle)]
+        crease = conn.edges[features.crease_edges(face_normals, conn, p.feature_angle)]
         given = np.sort(edges, axis=1) if len(edges) else edges
         n = len(p.vertices)
         new = ~np.isin(crease[:, 0] * np.int64(n) + crease[:, 1], given[:, 0] * np.int64(n) + given[:, 1]) \
@@ -239,15 +240,15 @@ def _features(p: Problem, conn) -> tuple:
         edges = np.concatenate([edges.reshape(-1, 2), crease[new]])
         weights = np.concatenate([weights, np.full(int(new.sum()), p.feature_weight)])
         corners = features.corners(edges, n) | features.boundary_corners(
-            p.vertices, p.faces, conn, p.feature_angle * features.BORDER_ANGLE_SHARE)
+            p.vertices, p.faces, face_normals, face_areas, conn, p.feature_angle * features.BORDER_ANGLE_SHARE)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
 
 
-def _source_normals(p: Problem) -> np.ndarray:
+def _source_normals(p: Problem, face_normals) -> np.ndarray:
     """Unit normals of the input faces, indexed like face_origin."""
     normals = np.zeros((p.input_faces, 3))
-    normals[p.face_origin] = face_frames(p.vertices, p.faces)[0]
+    normals[p.face_origin] = face_normals
     return normals
 
 

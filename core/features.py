@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import face_frames
+from .quadrics import scatter_sum
 from .topology import Connectivity
 
 # The default feature angle, in degrees. Right angles are what hard-surface parts are made
@@ -32,11 +32,11 @@ DEFAULT_FEATURE_ANGLE = 80.0
 BORDER_ANGLE_SHARE = 0.5
 
 
-def crease_edges(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
-    """(k,) indices into conn.edges of the interior manifold edges whose two faces' normals
-    differ by more than ``angle_degrees`` (the dihedral angle's supplement, as Blender's
-    Auto Smooth measures it)."""
-    normals, _ = face_frames(vertices, faces)
+def crease_edges(face_normals: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
+    """(k,) indices into conn.edges of the interior manifold edges whose two faces' unit
+    normals (m, 3) differ by more than ``angle_degrees`` (the dihedral angle's supplement,
+    as Blender's Auto Smooth measures it)."""
+    normals = face_normals
     inner = np.flatnonzero(conn.edge_faces == 2)
     n0 = normals[conn.edge_face0[inner]]
     n1 = normals[conn.edge_face1[inner]]
@@ -51,12 +51,14 @@ def corners(edges: np.ndarray, n_vertices: int) -> np.ndarray:
     return np.bincount(np.asarray(edges).ravel(), minlength=n_vertices) >= 3
 
 
-def boundary_corners(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
+def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.ndarray, face_areas: np.ndarray,
+                     conn: Connectivity, angle_degrees: float) -> np.ndarray:
     """(n,) bool: open-boundary vertices where the boundary turns by more than
     ``angle_degrees`` within the surface (the corners of a flat logo or a cut-out panel),
     and those where more than two boundary edges meet. The turn is measured in the
-    vertex's tangent plane, so a border that only wobbles out of the surface (noise on a
-    scanned sheet) has no corners."""
+    vertex's tangent plane (area-weighted normal, from the faces' unit normals and
+    areas), so a border that only wobbles out of the surface (noise on a scanned sheet)
+    has no corners."""
     n = len(vertices)
     border = conn.edges[conn.edge_faces == 1]
     corner = np.zeros(n, dtype=bool)
@@ -73,10 +75,7 @@ def boundary_corners(vertices: np.ndarray, faces: np.ndarray, conn: Connectivity
     v = ends[pairs]
     into = vertices[v] - vertices[others[pairs]]
     out = vertices[others[pairs + 1]] - vertices[v]
-    normals, areas = face_frames(vertices, faces)
-    corner_of = faces.ravel()
-    normal = np.stack([np.bincount(corner_of, weights=np.repeat(normals[:, j] * areas, 3), minlength=n)[v]
-                       for j in range(3)], axis=1)
+    normal = scatter_sum(faces, face_normals * face_areas[:, None], n)[v]
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
     into -= normal * np.einsum("ij,ij->i", into, normal)[:, None]
     out -= normal * np.einsum("ij,ij->i", out, normal)[:, None]
