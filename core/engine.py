@@ -32,6 +32,7 @@ from .result import (
 )
 from .wedges import Wedges
 from .geometry import edge_parameter, face_frames, rows
+from .metrics import triangle_quality
 
 # Selection rounds per pass: more rounds, more collapses per connectivity update.
 SELECTION_ROUNDS = 4
@@ -129,7 +130,7 @@ def run(p: Problem) -> list:
     if p.shape_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
-    s.input_quality[p.face_origin] = slivers.face_quality(s.V, s.F)
+    s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
