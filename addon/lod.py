@@ -106,16 +106,19 @@ def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
     return imp.skin_importance(np.asarray(group_weights)[:, cols])
 
 
-def _importance(obj, settings, data) -> Optional[np.ndarray]:
+def _importance(obj, settings, group_names, group_weights) -> Optional[np.ndarray]:
+    """Importance g in [0, 1] per vertex from the settings' source, or None (no source);
+    group_names and group_weights (n, g) are the mesh's vertex groups. LodError names
+    what is missing."""
     if settings.importance_source == 'VERTEX_GROUP':
         name = settings.importance_group
         if not name:
             raise LodError("importance source is Vertex Group but no group is chosen")
-        if name not in data.group_names:
+        if name not in group_names:
             raise LodError(f'"{obj.name}" has no vertex group "{name}"')
-        return data.group_weights[:, data.group_names.index(name)]
+        return np.asarray(group_weights)[:, list(group_names).index(name)]
     if settings.importance_source == 'ARMATURE':
-        return skin_importance_of(obj, data.group_names, data.group_weights)
+        return skin_importance_of(obj, group_names, group_weights)
     return None
 
 
@@ -191,7 +194,7 @@ def prepare(context_or_scene, source, settings: LodSettings) -> LodInput:
     if len(data.faces) == 0:
         raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
     targets = settings.targets(len(data.faces))
-    g = _importance(source, settings, data)
+    g = _importance(source, settings, data.group_names, data.group_weights)
     options, names = _core_options(source, settings, data, g)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g))
@@ -204,17 +207,10 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     painted (g >= 0.5). Raises LodError when the settings name no importance."""
     if obj is None or getattr(obj, "type", None) != 'MESH':
         raise LodError("Make a mesh object active")
-    names = vertex_groups.group_names(obj.data)
-    if settings.importance_source == 'VERTEX_GROUP':
-        name = settings.importance_group
-        if not name or name not in names:
-            raise LodError(f'"{obj.name}" has no vertex group "{name}"' if name else
-                           "importance source is Vertex Group but no group is chosen")
-        g = vertex_groups.read_weights(obj.data, [name])[:, 0]
-    elif settings.importance_source == 'ARMATURE':
-        g = skin_importance_of(obj, names, vertex_groups.read_weights(obj.data, names))
-    else:
+    if settings.importance_source == 'NONE':
         raise LodError("Importance source is None: choose a vertex group or the armature first")
+    names = vertex_groups.group_names(obj.data)
+    g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
 
 
