@@ -8,7 +8,7 @@ and repainted. The Strength slider (0..1) says how much g counts, in one unit an
 can see: how many times denser than the rest a fully painted region comes out.
 
 How (paper Sec. 4.4.1, extreme weights). Vertex i's whole augmented quadric (planes +
-line quadric) is multiplied by
+line quadric) is multiplied by the core's ``quadric_scale``
     factor_i = F(strength) ** g_i,
 F(0) = 1 (importance off) up to F(1) ~ 840 (near locking). Scaling the whole quadric,
 not adding line weight, is what gives the slider one meaning on every surface: it
@@ -44,7 +44,7 @@ SKIN_CAP = core.weights.SKIN_WEIGHT_MAX  # 0.1: skin weights are baked as w / ca
 # The paper's "small amount of line quadrics" before scaling (Sec. 4.4.1): a flat region
 # needs some error to scale. With Uniformity below this, importance lifts every vertex to
 # it (not only the painted ones, or a painted flat region would be compared with zero).
-LINE_WEIGHT_FLOOR = core.vertex_quadrics.IMPORTANCE_LINE_WEIGHT_FLOOR
+LINE_WEIGHT_FLOOR = core.vertex_quadrics.SCALED_LINE_WEIGHT_FLOOR
 
 # (strength, density gain of a fully painted region): the slider's design.
 STRENGTH_TO_GAIN = ((0.0, 1.0), (0.1, 1.5), (0.25, 2.4), (0.5, 4.5), (0.75, 12.0), (1.0, 90.0))
@@ -54,8 +54,9 @@ GAIN_TO_FACTOR = ((1, 1), (1.42, 1.5), (1.82, 2), (2.4, 3), (2.99, 4), (4, 6), (
 
 
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
-    """Paper Sec. 5.3 weights from (n, bones) deform weights, normalised to [0, 1] (w / 0.1)."""
-    return core.importance_from_skin_weights(skin_weights) / SKIN_CAP
+    """Importance g in [0, 1] from (n, bones) deform weights: the paper's Sec. 5.3 line
+    weights w_i over their cap (w / 0.1)."""
+    return core.skin_line_weights(skin_weights) / SKIN_CAP
 
 
 def _log_interp(x: float, table) -> float:
@@ -87,9 +88,9 @@ def effective(g: np.ndarray, strength: float) -> np.ndarray:
 
 
 def controls(g: np.ndarray, line_weight: float, strength: float) -> dict:
-    """Core keyword arguments (importance, maybe vertex_weights) for importance g in [0, 1]."""
+    """Core options (quadric_scale, maybe line_weights) for importance g in [0, 1]."""
     g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
-    out = {"importance": np.power(factor(strength), g) - 1.0}
-    if line_weight < LINE_WEIGHT_FLOOR and np.any(out["importance"] > 0):
-        out["vertex_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
+    out = {"quadric_scale": np.power(factor(strength), g)}
+    if line_weight < LINE_WEIGHT_FLOOR and np.any(out["quadric_scale"] > 1):
+        out["line_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
     return out

@@ -43,7 +43,7 @@ class LodInput:
     settings: LodSettings
     data: mesh_io.MeshData
     targets: list
-    core_options: dict
+    core_options: core.Options
     names: dict  # attribute keys given to the core -> what they stand for
     warnings: list = field(default_factory=list)
     importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
@@ -157,7 +157,8 @@ def _core_options(obj, settings, data, g) -> tuple:
         feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
     feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
 
-    options = dict(
+    # Each setting's core option is named in its row of addon/settings.py's SETTINGS.
+    options = core.Options(
         # Shape keys count in the error too: the LOD stays close at each key's full value.
         shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
         line_weight=float(settings.line_weight),
@@ -172,10 +173,9 @@ def _core_options(obj, settings, data, g) -> tuple:
         uv_attributes=tuple(uvs),
     )
     if len(feature_edges):
-        options["feature_edges"] = feature_edges
-        options["edge_weights"] = edge_weights
+        options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
     if g is not None:
-        options.update(imp.controls(g, settings.line_weight, settings.importance_strength))
+        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength))
     return options, names
 
 
@@ -308,9 +308,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     data = lod_input.data
     try:
         results = core.simplify_chain(
-            data.vertices, data.faces, targets=lod_input.targets,
-            progress=lambda f: progress is None or progress(simplify_share * f) is not False,
-            **lod_input.core_options)
+            data.vertices, data.faces, lod_input.targets, lod_input.core_options,
+            progress=lambda f: progress is None or progress(simplify_share * f) is not False)
     except core.SimplifyCancelled as ex:
         raise LodCancelled("cancelled") from ex
     except ValueError as ex:

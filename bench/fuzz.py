@@ -4,7 +4,7 @@ promises? A script, not a test (it needs ../shared/meshes and runs for minutes).
 Each case takes one mesh, optionally crops it to the faces inside a random ball (open
 borders, several pieces), optionally damages it (fins: a third face on an edge; pinches:
 two far-apart vertices merged), adds noise, and draws a ratio, seed, line weight,
-locked vertices, importance, per-vertex weights, boundary weight, max_error and UVs with
+locked vertices, quadric scales, per-vertex line weights, boundary weight, max_error and UVs with
 a seam. The result must then:
 - be a valid mesh: indices in range, no repeated vertex in a face, no duplicate faces,
   every output vertex used; origins in range and one-to-one;
@@ -91,9 +91,9 @@ def draw_case(rng, meshes, damage, with_uv):
     if rng.random() < 0.3:
         options["locked"] = rng.random(n) < rng.uniform(0.01, 0.3)
     if rng.random() < 0.3:
-        options["importance"] = np.where(rng.random(n) < 0.3, rng.uniform(0, 1000, n), 0.0)
+        options["quadric_scale"] = 1.0 + np.where(rng.random(n) < 0.3, rng.uniform(0, 1000, n), 0.0)
     if rng.random() < 0.3:
-        options["vertex_weights"] = rng.uniform(0, 0.1, n)
+        options["line_weights"] = rng.uniform(0, 0.1, n)
     if rng.random() < 0.2:
         options["boundary_weight"] = float(rng.choice([0.0, 1.0, 100.0]))
     if rng.random() < 0.2:

@@ -48,7 +48,7 @@ OGRE_SHARE = 0.15  # of the vertices, nearest the top, painted 1
 def former_soft(g, strength):
     """The former Soft mode (before issue 19), for comparison: an added line weight,
     w_i = 0.001 + 0.1 strength g_i (paper Eq. 16), no scaling."""
-    return {"line_weight": 1e-3, "vertex_weights": 1e-3 + 0.1 * strength * np.asarray(g)}
+    return {"line_weight": 1e-3, "line_weights": 1e-3 + 0.1 * strength * np.asarray(g)}
 
 
 def region_quality(res, g) -> float:
@@ -88,7 +88,7 @@ def sweep() -> None:
         gains = []
         for curved in (False, True):
             V, F, g = sheet(curved)
-            res = core.simplify(V, F, ratio=RATIO, line_weight=1e-3, importance=(f - 1.0) * g)
+            res = core.simplify(V, F, ratio=RATIO, line_weight=1e-3, quadric_scale=1.0 + (f - 1.0) * g)
             in_out = kept(res, g)[2]
             base.setdefault(curved, in_out)
             gains.append(in_out / base[curved])

@@ -34,7 +34,7 @@ _REPO_ROOT = Path(__file__).resolve().parent.parent
 if str(_REPO_ROOT) not in sys.path:
     sys.path.insert(0, str(_REPO_ROOT))
 
-from core import prepare, quadrics, topology, vertex_quadrics  # noqa: E402
+from core import Options, prepare, quadrics, topology, vertex_quadrics  # noqa: E402
 from core.engine import _non_manifold_vertices  # noqa: E402  (same input locking as the engine)
 from core.geometry import face_frames  # noqa: E402
 from core.result import STOP_TOPOLOGY, STOP_TARGET  # noqa: E402
@@ -67,7 +67,7 @@ def simplify_sequential(vertices, faces, *, target_faces, line_weight=1e-3, cost
     # duplicate faces, and the normalisation to a unit bounding-box diagonal, so the
     # quadrics, tolerances and guards see exactly the numbers core's engine sees.
     p = prepare.validate_and_prepare(vertices, faces, [target_faces],
-                                     {"line_weight": line_weight, "boundary_weight": boundary_weight})
+                                     Options(line_weight=line_weight, boundary_weight=boundary_weight))
     run = _Sequential(p, per_area=(cost == "per_area"), guards=guards)
     stop = run.collapse_until(p.targets[0])
     V, F = run.output(p)
@@ -95,7 +95,7 @@ class _Sequential:
         n = len(p.vertices)
         conn = topology.build(p.faces, n)
         Q, area = vertex_quadrics.build(
-            p.vertices, p.faces, conn, p.line_weights, p.importance, p.boundary_weight,
+            p.vertices, p.faces, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
             p.feature_edges, p.feature_edge_weights, p.probabilistic_sigma,
         )
         self.V = p.vertices.copy()  # (n, 3) normalised units

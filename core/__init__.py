@@ -6,9 +6,14 @@ dependency; nothing here imports Blender, so the same code serves the add-on, th
 command line, the tests and the benchmarks.
 
 Public API:
-    simplify(vertices, faces, **options) -> SimplifyResult
-    simplify_chain(vertices, faces, targets, **options) -> list[SimplifyResult]
-    triangle_quality(vertices, faces) -> (m,) quality in [0, 1]
+    Options                     every option of a run, documented once (core/options.py)
+    simplify(vertices, faces, target_faces=/ratio=, options=None, progress=None, **fields)
+        -> SimplifyResult       (fields: any Options field, e.g. line_weight=0.01)
+    simplify_chain(vertices, faces, targets, options=None, progress=None, **fields)
+        -> list[SimplifyResult]
+    triangle_quality(vertices, faces) -> (m,) quality in [0, 1]; SLIVER_QUALITY below it
+        a triangle is a sliver (the default min_quality and every report's threshold)
+    skin_line_weights(skin) -> (n,) the paper's Sec. 5.3 w_i from skinning weights
 """
 from .result import (
     STOP_MAX_ERROR,
@@ -19,12 +24,16 @@ from .result import (
     SimplifyResult,
     SimplifyStats,
 )
+from .options import DEFAULT_LINE_WEIGHT, Options
 from .simplify import simplify, simplify_chain
-from .metrics import triangle_quality, quality_summary
-from .weights import importance_from_skin_weights
+from .metrics import SLIVER_QUALITY, triangle_quality, quality_summary
+from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
 
 __all__ = [
+    "Options",
+    "DEFAULT_LINE_WEIGHT",
+    "SLIVER_QUALITY",
     "simplify",
     "simplify_chain",
     "SimplifyResult",
@@ -36,6 +45,6 @@ __all__ = [
     "STOP_REASON_TEXT",
     "triangle_quality",
     "quality_summary",
-    "importance_from_skin_weights",
+    "skin_line_weights",
     "topology",
 ]

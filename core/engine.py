@@ -107,7 +107,7 @@ def run(p: Problem) -> list:
     face_normals, face_areas = face_frames(p.vertices, F)
     feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
     Q, area = vertex_quadrics.build(
-        p.vertices, F, conn, p.line_weights, p.importance, p.boundary_weight,
+        p.vertices, F, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
         feature_edges, feature_weights, p.probabilistic_sigma,
     )
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
@@ -131,7 +131,7 @@ def run(p: Problem) -> list:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
     s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
-    s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.importance is not None and bool(np.any(p.importance > 0)))
+    s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
     max_error_sq = None if p.max_error is None else p.max_error ** 2
 

@@ -8,12 +8,12 @@ and would break the manifold checks.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
 from . import checks
-from .features import DEFAULT_FEATURE_ANGLE
-from .guards import SLIVER_QUALITY
+from .options import Options
 from .weld import weld_map
 
 
@@ -26,8 +26,8 @@ class Problem:
     vertex_origin: np.ndarray
     targets: list
     max_error: object  # normalised units, or None
-    line_weights: np.ndarray
-    importance: object
+    line_weights: np.ndarray  # w_i of Eq. 16
+    quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
     boundary_weight: float
     probabilistic_sigma: float
     locked: np.ndarray
@@ -52,64 +52,56 @@ class Problem:
     welded: int = 0
 
 
-def validate_and_prepare(vertices, faces, targets, options) -> Problem:
+def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, progress=None) -> Problem:
     """Check every argument (ValueError naming the problem) and clean the input."""
-    known = {
-        "max_error", "line_weight", "vertex_weights", "importance", "boundary_weight", "locked",
-        "progress", "seed", "vertex_attributes", "normalize_attributes", "corner_attributes",
-        "uv_attributes", "preserve_seams", "feature_edges", "feature_weight", "edge_weights",
-        "weld_distance", "probabilistic_sigma", "feature_angle", "min_quality",
-        "remove_small_components", "shape_attributes",
-    }
-    unknown = set(options) - known
-    if unknown:
-        raise ValueError(f"unknown option(s): {', '.join(sorted(unknown))}")
-    o = options
+    o = Options() if o is None else o
     v = checks.as_vertices(vertices)
     n = len(v)
     f = checks.as_faces(faces, n)
     m = len(f)
     tgt = checks.targets(targets, m)
-    max_error = o.get("max_error")
+    max_error = o.max_error
     if max_error is not None:
         max_error = checks.non_negative(max_error, "max_error")
-    line_weight = checks.non_negative(o.get("line_weight", 1e-3), "line_weight")
-    vw = o.get("vertex_weights")
-    line_weights = np.full(n, line_weight) if vw is None else checks.per_vertex(vw, n, "vertex_weights")
-    imp = o.get("importance")
-    importance = None if imp is None else checks.per_vertex(imp, n, "importance")
-    boundary_weight = checks.non_negative(o.get("boundary_weight", 1.0), "boundary_weight")
-    probabilistic_sigma = checks.non_negative(o.get("probabilistic_sigma", 0.0), "probabilistic_sigma")
-    lk = o.get("locked")
-    locked = np.zeros(n, dtype=bool) if lk is None else checks.per_vertex(lk, n, "locked", dtype=bool)
-    progress = o.get("progress")
+    line_weight = checks.non_negative(o.line_weight, "line_weight")
+    line_weights = (np.full(n, line_weight) if o.line_weights is None
+                    else checks.per_vertex(o.line_weights, n, "line_weights"))
+    quadric_scale = None
+    if o.quadric_scale is not None:
+        quadric_scale = checks.per_vertex(o.quadric_scale, n, "quadric_scale")
+        if n and quadric_scale.min() < 1:
+            raise ValueError(f"quadric_scale must be >= 1 (found {quadric_scale.min()}): "
+                             f"it multiplies the error, 1 leaves it as it is")
+    boundary_weight = checks.non_negative(o.boundary_weight, "boundary_weight")
+    probabilistic_sigma = checks.non_negative(o.probabilistic_sigma, "probabilistic_sigma")
+    locked = np.zeros(n, dtype=bool) if o.locked is None else checks.per_vertex(o.locked, n, "locked", dtype=bool)
     if progress is not None and not callable(progress):
         raise ValueError("progress must be callable (fraction) -> bool")
-    seed = o.get("seed", 0)
+    seed = o.seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise ValueError(f"seed must be an integer, got {seed!r}")
-    vattrs = checks.vertex_attributes(o.get("vertex_attributes"), n)
-    normalize = tuple(o.get("normalize_attributes") or ())
+    vattrs = checks.vertex_attributes(o.vertex_attributes, n)
+    normalize = tuple(o.normalize_attributes or ())
     for name in normalize:
         if name not in vattrs:
             raise ValueError(f"normalize_attributes names {name!r}, which is not a vertex attribute")
-    cattrs = checks.corner_attributes(o.get("corner_attributes"), m)
-    uvs = tuple(o.get("uv_attributes") or ())
+    cattrs = checks.corner_attributes(o.corner_attributes, m)
+    uvs = tuple(o.uv_attributes or ())
     for name in uvs:
         if name not in cattrs or cattrs[name].shape[2] != 2:
             raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
-    fe = checks.edge_list(o.get("feature_edges") if o.get("feature_edges") is not None else [], n, "feature_edges")
-    feature_weight = checks.non_negative(o.get("feature_weight", 1.0), "feature_weight")
-    feature_angle = o.get("feature_angle", DEFAULT_FEATURE_ANGLE)
+    fe = checks.edge_list(o.feature_edges if o.feature_edges is not None else [], n, "feature_edges")
+    feature_weight = checks.non_negative(o.feature_weight, "feature_weight")
+    feature_angle = o.feature_angle
     if feature_angle is not None:
         feature_angle = checks.non_negative(feature_angle, "feature_angle")
         if feature_angle >= 180:
             raise ValueError(f"feature_angle is in degrees and must be below 180, got {feature_angle}")
         feature_angle = feature_angle or None  # 0 turns it off, like None
-    min_quality = checks.non_negative(o.get("min_quality", SLIVER_QUALITY), "min_quality")
+    min_quality = checks.non_negative(o.min_quality, "min_quality")
     if min_quality > 1:
         raise ValueError(f"min_quality is a triangle quality in [0, 1], got {min_quality}")
-    ew = o.get("edge_weights")
+    ew = o.edge_weights
     if ew is None:
         few = np.full(len(fe), feature_weight)
     else:
@@ -118,11 +110,11 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
             raise ValueError(f"edge_weights must have one value per feature edge ({len(fe)}), got shape {few.shape}")
         if not np.isfinite(few).all() or (few < 0).any():
             raise ValueError("edge_weights must be finite and >= 0")
-    shapes = tuple(o.get("shape_attributes") or ())
+    shapes = tuple(o.shape_attributes or ())
     for name in shapes:
         if name not in vattrs or vattrs[name].shape[1] != 3:
             raise ValueError(f"shape_attributes names {name!r}, which is not a 3-component vertex attribute")
-    weld_distance = o.get("weld_distance")
+    weld_distance = o.weld_distance
     if weld_distance is not None:
         weld_distance = float(weld_distance)
 
@@ -156,12 +148,12 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         unique_mask[first] = True
         keep &= unique_mask
     face_origin = np.flatnonzero(keep)
-    # Welded vertices pool their locks, weights and importance: the strongest wins.
+    # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
         locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
         line_weights = _max_by_group(line_weights, rep, n)
-        if importance is not None:
-            importance = _max_by_group(importance, rep, n)
+        if quadric_scale is not None:
+            quadric_scale = _max_by_group(quadric_scale, rep, n)
 
     return Problem(
         vertices=vn,
@@ -172,7 +164,7 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         targets=tgt,
         max_error=max_error,
         line_weights=line_weights,
-        importance=importance,
+        quadric_scale=quadric_scale,
         boundary_weight=boundary_weight,
         probabilistic_sigma=probabilistic_sigma,
         locked=locked,
@@ -182,13 +174,13 @@ def validate_and_prepare(vertices, faces, targets, options) -> Problem:
         normalize_attributes=normalize,
         corner_attributes={k: a[keep] for k, a in cattrs.items()},
         uv_attributes=uvs,
-        preserve_seams=bool(o.get("preserve_seams", True)),
+        preserve_seams=bool(o.preserve_seams),
         feature_edges=rep[fe] if len(fe) else fe,
         feature_edge_weights=few,
         feature_weight=feature_weight,
         feature_angle=feature_angle,
         min_quality=min_quality,
-        remove_small_components=bool(o.get("remove_small_components", False)),
+        remove_small_components=bool(o.remove_small_components),
         shape_attributes=shapes,
         center=center,
         scale=scale,

@@ -20,6 +20,7 @@ import numpy as np
 from . import topology
 from .geometry import cross, rows
 from .guards import SLIVER_QUALITY, relaxation_ladder
+from .metrics import quality_from
 
 STRICT = relaxation_ladder()[0]
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
@@ -181,7 +182,7 @@ def _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, f
 
 
 def _quality(double_area, ab, ac, bc_squared):
-    """Triangle quality 4 sqrt(3) area / sum of squared edges, from two edge vectors at a
-    corner and the squared length of the third edge."""
+    """Triangle quality (core.metrics) from two edge vectors at a corner and the squared
+    length of the third edge."""
     sq = np.einsum("ij,ij->i", ab, ab) + np.einsum("ij,ij->i", ac, ac) + bc_squared
-    return 2.0 * np.sqrt(3.0) * double_area / np.maximum(sq, 1e-300)
+    return quality_from(double_area, np.maximum(sq, 1e-300))

@@ -6,12 +6,13 @@ import numpy as np
 
 from . import quadrics
 from .geometry import face_frames
+from .options import DEFAULT_LINE_WEIGHT
 from .topology import Connectivity
 
 # Sec. 4.4.1: the extreme-weight variant needs some line quadric before scaling, or a
 # flat region (zero error) stays uncontrollable; this is the floor applied where
-# importance > 0 and the caller's line weight is smaller.
-IMPORTANCE_LINE_WEIGHT_FLOOR = 1e-3
+# quadric_scale > 1 and the caller's line weight is smaller: the paper's default w.
+SCALED_LINE_WEIGHT_FLOOR = DEFAULT_LINE_WEIGHT
 
 
 def _unit_rows(v: np.ndarray) -> tuple:
@@ -27,7 +28,7 @@ def build(
     faces: np.ndarray,
     conn: Connectivity,
     line_weights: np.ndarray,
-    importance,
+    quadric_scale,
     boundary_weight: float,
     feature_edges,
     feature_edge_weights,
@@ -35,7 +36,7 @@ def build(
 ) -> tuple:
     """Returns (Q (n, 10), vertex areas (n,)) for the input mesh.
 
-    line_weights: (n,) w_i of Eq. 16; importance: (n,) or None (Sec. 4.4.1 scaling);
+    line_weights: (n,) w_i of Eq. 16; quadric_scale: (n,) >= 1 or None (Sec. 4.4.1);
     feature_edges: (k, 2) or None with feature_edge_weights (k,) (Eq. 19);
     probabilistic_sigma: standard deviation of the noise on the unit normals of Trettner
     & Kobbelt's probabilistic planes (dimensionless): the alternative regulariser the
@@ -52,8 +53,8 @@ def build(
     # Eq. 12 and 16: line along the area-weighted vertex normal, weighted by w_i a_i.
     vertex_normal, has_normal = _unit_rows(quadrics.scatter_sum(faces, normals * areas[:, None], n))
     w = np.asarray(line_weights, dtype=np.float64)
-    if importance is not None:
-        w = np.where(importance > 0, np.maximum(w, IMPORTANCE_LINE_WEIGHT_FLOOR), w)
+    if quadric_scale is not None:
+        w = np.where(quadric_scale > 1, np.maximum(w, SCALED_LINE_WEIGHT_FLOOR), w)
     line_w = np.where(has_normal, w * vertex_area, 0.0)
     if np.any(line_w > 0):
         q += quadrics.line_quadrics(vertex_normal, vertices, line_w)
@@ -69,8 +70,8 @@ def build(
     if feature_edges is not None and len(feature_edges):
         q += _feature_quadrics(vertices, normals, areas, conn, feature_edges, feature_edge_weights, n)
 
-    if importance is not None:
-        q *= (1.0 + importance)[:, None]
+    if quadric_scale is not None:
+        q *= quadric_scale[:, None]
     return q, vertex_area
 
 

@@ -8,10 +8,11 @@ SKIN_WEIGHT_SCALE = 0.15
 SKIN_WEIGHT_MAX = 0.1
 
 
-def importance_from_skin_weights(
+def skin_line_weights(
     skin_weights: np.ndarray, scale: float = SKIN_WEIGHT_SCALE, cap: float = SKIN_WEIGHT_MAX
 ) -> np.ndarray:
-    """Line-quadric weights that favour joints, from skinning weights.
+    """Per-vertex line-quadric weights w_i that favour joints, from skinning weights
+    (pass them as ``line_weights``).
 
     skin_weights: (n, b) float, the weight of each of b deform bones at each vertex.
     Returns (n,) float64 w_i = min(scale * (1 - s_i), cap), s_i the largest bone weight at

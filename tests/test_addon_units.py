@@ -59,7 +59,7 @@ def test_mark_edges():
 
 def test_importance_scales_the_quadric_by_a_rising_factor():
     g = np.array([0.0, 0.5, 1.0])
-    factors = [1.0 + importance.controls(g, 1e-3, s)["importance"] for s in (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)]
+    factors = [importance.controls(g, 1e-3, s)["quadric_scale"] for s in (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)]
     assert np.allclose(factors[0], 1.0)  # strength 0: importance off
     assert all(f[0] == 1.0 for f in factors)  # unpainted vertices are never scaled
     top = [f[2] for f in factors]
@@ -68,15 +68,15 @@ def test_importance_scales_the_quadric_by_a_rising_factor():
     # A half-painted vertex gets the geometric mean: half the effect in the log-factor.
     assert all(np.isclose(f[1], np.sqrt(f[2])) for f in factors)
     # With the default line weight the line quadric is left as it is: only the scale acts.
-    assert "vertex_weights" not in importance.controls(g, 1e-3, 0.5)
+    assert "line_weights" not in importance.controls(g, 1e-3, 0.5)
 
 
 def test_importance_lifts_a_zero_line_weight_everywhere():
     # Sec. 4.4.1: scaling needs some line quadric on flat regions; giving it to every
     # vertex (not only the painted ones) keeps painted and unpainted comparable.
     c = importance.controls(np.array([0.0, 1.0]), 0.0, 0.5)
-    assert np.allclose(c["vertex_weights"], importance.LINE_WEIGHT_FLOOR)
-    assert "vertex_weights" not in importance.controls(np.array([0.0, 1.0]), 0.0, 0.0)
+    assert np.allclose(c["line_weights"], importance.LINE_WEIGHT_FLOOR)
+    assert "line_weights" not in importance.controls(np.array([0.0, 1.0]), 0.0, 0.0)
 
 
 def test_expected_gain_and_preview_follow_the_slider():

@@ -67,7 +67,7 @@ def test_open_mesh_keeps_its_borders():
 def test_first_collapse_is_the_cheapest_edge_at_its_optimal_position():
     V, F = _bumpy_torus(seed=1)
     # Brute force with core's own pieces: every edge's quadric error at its optimum.
-    p = prepare.validate_and_prepare(V, F, [len(F) - 2], {})
+    p = prepare.validate_and_prepare(V, F, [len(F) - 2])
     conn = topology.build(p.faces, len(p.vertices))
     Q, area = vertex_quadrics.build(p.vertices, p.faces, conn, p.line_weights, None, 1.0, None, None)
     a, b = conn.edges[:, 0], conn.edges[:, 1]

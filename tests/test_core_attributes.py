@@ -339,9 +339,9 @@ def test_vertex_attribute_follows_a_linear_field():
     assert err.max() < 2 * cell, err.max()
 
 
-def test_importance_from_skin_weights():
+def test_skin_line_weights():
     s = np.array([[1.0, 0, 0], [0.5, 0.5, 0], [0.4, 0.3, 0.3], [0, 0, 0]])
-    w = core.importance_from_skin_weights(s)
+    w = core.skin_line_weights(s)
     np.testing.assert_allclose(w, [0.0, 0.075, 0.09, 0.1])
 
 

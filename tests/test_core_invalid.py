@@ -71,16 +71,16 @@ def test_nan_line_weight():
     _raises(r"line_weight", line_weight=float("nan"))
 
 
-def test_negative_vertex_weights():
+def test_negative_line_weights():
     w = np.full(N, 1e-3)
     w[4] = -0.5
-    _raises(r"vertex_weights.*>= 0", vertex_weights=w)
+    _raises(r"line_weights.*>= 0", line_weights=w)
 
 
-def test_negative_importance():
-    imp = np.zeros(N)
-    imp[0] = -1.0
-    _raises(r"importance.*>= 0", importance=imp)
+def test_quadric_scale_below_one():
+    scale = np.ones(N)
+    scale[0] = 0.5
+    _raises(r"quadric_scale.*>= 1", quadric_scale=scale)
 
 
 def test_negative_boundary_weight():
@@ -97,8 +97,8 @@ def test_negative_feature_weight():
 
 
 @pytest.mark.parametrize("name,value", [
-    ("vertex_weights", np.full(N - 1, 1e-3)),
-    ("importance", np.zeros(N + 3)),
+    ("line_weights", np.full(N - 1, 1e-3)),
+    ("quadric_scale", np.ones(N + 3)),
     ("locked", np.zeros(N - 2, dtype=bool)),
 ])
 def test_wrong_length_per_vertex_arrays(name, value):

@@ -197,22 +197,22 @@ def test_flat_grid_to_5_percent_is_well_shaped_with_small_line_weight(jitter, al
 # ---------------------------------------------------------------- per-vertex controls
 
 
-def test_constant_vertex_weights_equal_the_scalar_line_weight():
+def test_constant_line_weights_equal_the_scalar_line_weight():
     V, F = mg.grid(20, jitter=0.2, height=mg.bumps(0.1, 1.5))
     a = core.simplify(V, F, ratio=0.1, line_weight=0.01)
-    b = core.simplify(V, F, ratio=0.1, vertex_weights=np.full(len(V), 0.01))
+    b = core.simplify(V, F, ratio=0.1, line_weights=np.full(len(V), 0.01))
     assert a.faces.tobytes() == b.faces.tobytes() and a.vertices.tobytes() == b.vertices.tobytes()
 
 
-@pytest.mark.parametrize("control", ["importance", "vertex_weights"])
+@pytest.mark.parametrize("control", ["quadric_scale", "line_weights"])
 def test_weighted_half_keeps_more_vertices(control):
     # Paper Sec. 4.4: a higher weight (line quadric, or the Sec. 4.4.1 importance scaling)
     # makes collapses there dearer, so that region keeps more of its vertices - also
     # where it is flat.
     V, F = mg.grid(30)
     left = V[:, 0] < 0.5
-    value = {"importance": 10.0, "vertex_weights": 0.1}[control]
-    weights = np.where(left, value, 0.0 if control == "importance" else 1e-3)
+    value = {"quadric_scale": 11.0, "line_weights": 0.1}[control]
+    weights = np.where(left, value, 1.0 if control == "quadric_scale" else 1e-3)
     r = core.simplify(V, F, ratio=0.1, **{control: weights})
     mg.assert_valid_result(r, V, F)
     n_left = np.count_nonzero(r.vertices[:, 0] < 0.5)

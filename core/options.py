@@ -1,0 +1,112 @@
+"""Every option of a simplification run, in one dataclass: its name, default and meaning.
+
+``simplify`` and ``simplify_chain`` take an ``Options`` (``options=``) and/or the same
+fields as keywords; core.prepare checks the values. Names follow the paper where it has
+one: ``line_weight`` is its w, ``line_weights`` its per-vertex w_i (Eq. 16),
+``quadric_scale`` the factor on the whole augmented quadric of Sec. 4.4.1 ("extreme
+weights"), ``edge_weights`` its w_ij (Eq. 19).
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any, Mapping, Optional, Sequence
+
+from .features import DEFAULT_FEATURE_ANGLE
+from .metrics import SLIVER_QUALITY
+
+# The paper's default line-quadric weight w (Sec. 4.2: "our default is w_i = 10^-3"):
+# enough to regularise flat regions, too little to pull the shape.
+DEFAULT_LINE_WEIGHT = 1e-3
+
+
+@dataclass(frozen=True)
+class Options:
+    """How to simplify (everything but the mesh, the targets and the progress callback).
+
+    Target:
+      max_error: an RMS distance in mesh units, or None: no collapse whose quadric error,
+        divided by the area it stands for, exceeds max_error**2; the run stops at the
+        target or there, whichever comes first.
+
+    Controls (paper Eq. 16 and Sec. 4.4):
+      line_weight: w for every vertex (1e-3 by default; 0 gives plain Garland-Heckbert).
+      line_weights: (n,) per-vertex w_i >= 0, replaces line_weight where given.
+      quadric_scale: (n,) >= 1 or None, the extreme-weight variant (Sec. 4.4.1): vertex
+        i's whole augmented quadric (planes + line quadric) is multiplied by
+        quadric_scale_i, so flat regions are controllable too. Where it is above 1 the
+        line weight is raised to at least SCALED_LINE_WEIGHT_FLOOR (core.vertex_quadrics),
+        since scaling a zero error changes nothing.
+      boundary_weight: weight of the planes through open boundary edges (0 turns them off).
+      locked: (n,) bool, vertices that never move and are never removed.
+      feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)
+        weighted by ``feature_weight`` or by per-edge ``edge_weights`` (k,), the w_ij.
+      feature_angle: degrees in [0, 180) (80 by default), or None/0 (off): interior edges
+        whose faces' normals differ by more than this are creases, kept softly like
+        ``feature_edges`` (weighted by ``feature_weight``); vertices where three or more
+        creases or feature edges meet, and open-boundary vertices where the boundary
+        turns by more than half the angle, are corners and stay put (unless the target
+        cannot be reached otherwise).
+      min_quality: in [0, 1], the triangle quality (core.metrics.triangle_quality; 1 for
+        equilateral) below which no collapse may turn a face (SLIVER_QUALITY = 0.3 by
+        default, 0 turns the rule off): lower it for closer hard-surface shapes at the
+        cost of slivers.
+      remove_small_components: when no collapse is possible short of the target, delete
+        whole parts, smallest area first (never the largest, never one with a locked
+        vertex), instead of stopping above the target.
+      probabilistic_sigma: >= 0, the alternative regulariser the paper compares with
+        (Trettner & Kobbelt 2020): the standard deviation of isotropic noise on the unit
+        face normals (dimensionless; sigma^2 plays the part of w). 0 (default) leaves it
+        off; combine with line_weight=0 to compare the two.
+      seed: the same input and seed give bit-identical output.
+
+    Carried data:
+      vertex_attributes: {name: (n, k)} interpolated along each collapsed edge.
+      normalize_attributes: names among vertex_attributes whose rows summed to one and must
+        keep doing so (skin weights).
+      corner_attributes: {name: (m, 3, k)} per face corner (UVs, corner colours); an edge
+        across which one of them is discontinuous is a seam, kept when preserve_seams.
+      uv_attributes: names among corner_attributes (k = 2) whose triangles must not flip.
+      shape_attributes: names among vertex_attributes (k = 3) that are shape-key offsets
+        (mesh units): the LOD is kept close at each key's full value too, not only at rest
+        (the strongest 16 count; core.shape_keys).
+      weld_distance: weld vertices closer than this before simplifying (split vertices of
+        exported assets); None welds only exactly coincident ones, a negative value none.
+    """
+
+    max_error: Optional[float] = None
+    line_weight: float = DEFAULT_LINE_WEIGHT
+    line_weights: Any = None
+    quadric_scale: Any = None
+    boundary_weight: float = 1.0
+    locked: Any = None
+    seed: int = 0
+    vertex_attributes: Optional[Mapping[str, Any]] = None
+    normalize_attributes: Sequence[str] = ()
+    corner_attributes: Optional[Mapping[str, Any]] = None
+    uv_attributes: Sequence[str] = ()
+    preserve_seams: bool = True
+    feature_edges: Any = None
+    feature_weight: float = 1.0
+    edge_weights: Any = None
+    weld_distance: Optional[float] = None
+    probabilistic_sigma: float = 0.0
+    feature_angle: Optional[float] = DEFAULT_FEATURE_ANGLE
+    min_quality: float = SLIVER_QUALITY
+    remove_small_components: bool = False
+    shape_attributes: Sequence[str] = ()
+
+    @classmethod
+    def names(cls) -> tuple:
+        return tuple(f.name for f in dataclasses.fields(cls))
+
+    @classmethod
+    def of(cls, options: Optional["Options"] = None, **values) -> "Options":
+        """``options`` (default: all defaults) with ``values`` replacing fields; ValueError
+        naming any keyword that is not an option (a typo would otherwise be ignored)."""
+        if options is not None and not isinstance(options, cls):
+            raise ValueError(f"options must be a core.Options, got {type(options).__name__}")
+        unknown = set(values) - set(cls.names())
+        if unknown:
+            raise ValueError(f"unknown option(s): {', '.join(sorted(unknown))}")
+        return dataclasses.replace(options if options is not None else cls(), **values)
