@@ -8,36 +8,81 @@ lod.py: Blender data is read here on the main thread (constructor), the simplifi
 and measuring run in a thread (start) or inline (run), and Blender data is written only
 by commit(), on the main thread, after everything is done. A cancelled or failed job
 never reaches commit(), so the scene stays exactly as it was.
+
+The panel and the command line both drive their runs through LodJob: the panel with
+one settings for every selected object and a fraction for its progress bar, the command
+line with settings per object (importance differs between the assets of a batch) and an
+:class:`ObjectObserver` for its per-object progress lines.
 """
 from __future__ import annotations
 
 import threading
-from typing import Callable, Optional
+from typing import Callable, Optional, Sequence, Union
 
 from . import lod
+from .settings import LodError
+
+
+class ObjectObserver:
+    """What :meth:`LodJob.run` tells about each object, on the thread that runs it.
+    The hooks here do nothing; override the ones you need."""
+
+    def started(self, lod_input: lod.LodInput) -> None:
+        pass
+
+    def progress(self, fraction: float) -> None:
+        """How far the current object is, 0 to 1 (lod.compute's fraction)."""
+
+    def finished(self, lod_output: lod.LodOutput) -> None:
+        pass
+
+
+def _prepare(context, obj, settings: lod.LodSettings) -> lod.LodInput:
+    try:
+        return lod.prepare(context, obj, settings)
+    except LodError as ex:
+        # With several objects, a message such as "the first LOD's target ... is not
+        # smaller than the mesh" must say which one it is about.
+        name = getattr(obj, "name", None)
+        if name is None or f'"{name}"' in str(ex):
+            raise
+        raise LodError(f'"{name}": {ex}') from ex
 
 
 class LodJob:
-    def __init__(self, context, objects, settings: lod.LodSettings):
-        # Reads Blender data: main thread only. Raises LodError for bad input.
-        self.inputs = [lod.prepare(context, ob, settings) for ob in objects]
+    def __init__(self, context, objects,
+                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]]):
+        """``settings``: one for every object, or a sequence with one per object.
+        Reads Blender data: main thread only. Raises LodError for bad input, naming the object."""
+        objects = list(objects)
+        per_object = list(settings) if isinstance(settings, (list, tuple)) else [settings] * len(objects)
+        if len(per_object) != len(objects):
+            raise ValueError(f"{len(per_object)} settings for {len(objects)} objects")
+        self.inputs = [_prepare(context, ob, s) for ob, s in zip(objects, per_object)]
         self.outputs = []
         self.fraction = 0.0
         self.error: Optional[BaseException] = None
         self._cancel = threading.Event()
         self._thread: Optional[threading.Thread] = None
 
-    def run(self, progress: Optional[Callable[[float], object]] = None) -> None:
-        """Compute every object's LODs in the calling thread; raises LodCancelled/LodError."""
+    def run(self, progress: Optional[Callable[[float], object]] = None,
+            observer: Optional[ObjectObserver] = None) -> None:
+        """Compute every object's LODs in the calling thread; raises LodCancelled/LodError.
+        ``progress`` gets the fraction of the whole job, ``observer`` each object's."""
+        observer = observer or ObjectObserver()
         count = len(self.inputs)
         for index, lod_input in enumerate(self.inputs):
             def step(fraction, index=index):
                 self.fraction = (index + fraction) / count
                 if progress is not None:
                     progress(self.fraction)
+                observer.progress(fraction)
                 return not self._cancel.is_set()
 
-            self.outputs.append(lod.compute(lod_input, step))
+            observer.started(lod_input)
+            output = lod.compute(lod_input, step)
+            observer.finished(output)
+            self.outputs.append(output)
         self.fraction = 1.0
 
     def _run_in_thread(self) -> None:
