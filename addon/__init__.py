@@ -9,11 +9,14 @@ Modules (one idea each):
     settings        LodSettings, LodError, LodCancelled (no bpy: the command line parses into them)
     importance      what the Importance settings mean as core parameters
     lod             generate_lods(): read, simplify, write, link (no UI)
-    job             a LOD run whose simplification can go to a worker thread (Esc cancel)
+    job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)
+    lod_group       the chain named for game engines: source "<name>_LOD0", the Unreal LOD group
     props           the settings as Blender properties (operator and scene share them)
     operators       Generate LODs, Paint Importance, Importance from Armature
     panel           the sidebar panel
     measure         surface deviation and the LOD report numbers
+    cli             the command line's entry point (blender -c line_quadric_lod, -P, python <checkout>)
+    headless/       the command line's parts (its __init__ lists them)
 
 The submodules that need bpy are imported inside register(), so the pure-NumPy parts
 (edges, settings, importance) import without Blender.

@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-from addon import cli
+from addon.headless import arguments, inputs, report
+from addon.headless.lod_settings import settings_from_args
 from addon.settings import LodError
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
@@ -19,7 +20,7 @@ REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "
 
 
 def parse(*argv):
-    return cli.build_parser("test").parse_args(list(argv))
+    return arguments.build_parser("test").parse_args(list(argv))
 
 
 def run_cli(tmp_path, *argv):
@@ -105,55 +106,62 @@ def test_output_needs_one_input_and_same_stems_clash(tmp_path):
 
 
 def test_check_args_rules():
-    assert cli.check_args(parse("--ratios", "0.5", "0.25", "--report", "r.json")) == []
-    assert cli.check_args(parse("--ratios", "0.25", "0.5", "--report", "r.json")) == [
+    assert arguments.check_args(parse("--ratios", "0.5", "0.25", "--report", "r.json")) == []
+    assert arguments.check_args(parse("--ratios", "0.25", "0.5", "--report", "r.json")) == [
         "--ratios must decrease (each LOD smaller than the one before), got 0.25 0.5"]
-    assert cli.check_args(parse("--faces", "100", "100", "--report", "r.json")) == [
+    assert arguments.check_args(parse("--faces", "100", "100", "--report", "r.json")) == [
         "--faces must decrease (each LOD smaller than the one before), got 100 100"]
-    assert cli.check_args(parse("--line-weight", "-1", "--report", "r.json")) == ["--line-weight must be >= 0, got -1"]
-    assert cli.check_args(parse("--min-quality", "1.5", "--report", "r.json")) == [
+    assert arguments.check_args(parse("--line-weight", "-1", "--report", "r.json")) == ["--line-weight must be >= 0, got -1"]
+    assert arguments.check_args(parse("--min-quality", "1.5", "--report", "r.json")) == [
         "--min-quality must be between 0 and 1, got 1.5"]
-    assert cli.check_args(parse("--feature-angle", "180", "--report", "r.json")) == [
+    assert arguments.check_args(parse("--feature-angle", "180", "--report", "r.json")) == [
         "--feature-angle must be in degrees from 0 (off) to below 180, got 180"]
-    settings = cli._settings(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
+    settings = settings_from_args(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
                                    "--report", "r.json"))
     assert (settings.min_quality, settings.feature_angle, settings.remove_small_components) == (0.0, 0.0, True)
-    defaults = cli._settings(parse("--report", "r.json"))
+    defaults = settings_from_args(parse("--report", "r.json"))
     assert (defaults.min_quality, defaults.feature_angle, defaults.remove_small_components) == (0.3, 80.0, False)
-    assert cli.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
+    assert arguments.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
         "--format goes with --output-dir; the --output file's extension picks its format"]
-    assert cli.check_args(parse("--importance-group", " ", "--report", "r.json")) == [
+    assert arguments.check_args(parse("--importance-group", " ", "--report", "r.json")) == [
         "--importance-group needs a vertex group name"]
 
 
-def test_targets_for():
-    args = parse("--ratios", "0.5", "0.25", "0.1", "--report", "r.json")
-    assert cli.targets_for(args, 1000) == [500, 250, 100]
-    args = parse("--report", "r.json")  # the default chain
-    assert cli.targets_for(args, 1000) == [500, 250, 125]
+def targets(*argv, triangles):
+    """The chain lod.prepare() gets from the settings the options give."""
+    return settings_from_args(parse(*argv, "--report", "r.json")).targets(triangles)
+
+
+def test_the_options_chain_replaces_the_panels():
+    assert targets("--ratios", "0.5", "0.25", "0.1", triangles=1000) == [500, 250, 100]
+    assert targets(triangles=1000) == [500, 250, 125]  # the default chain
     with pytest.raises(LodError, match=r"of 12 triangles give \[6, 3, 0\]: each LOD needs fewer"):
-        cli.targets_for(parse("--ratios", "0.5", "0.25", "0.01", "--report", "r.json"), 12)
+        targets("--ratios", "0.5", "0.25", "0.01", triangles=12)
     with pytest.raises(LodError, match="--faces 2000 is not fewer than the mesh's 1,000 triangles"):
-        cli.targets_for(parse("--faces", "2000", "10", "--report", "r.json"), 1000)
-    assert cli.targets_for(parse("--faces", "900", "10", "--report", "r.json"), 1000) == [900, 10]
+        targets("--faces", "2000", "10", triangles=1000)
+    assert targets("--faces", "900", "10", triangles=1000) == [900, 10]
+    # The chain's own check replaces the panel's first-LOD-and-factor one, also on a
+    # one-triangle mesh where the panel's default chain would be the message.
+    with pytest.raises(LodError, match="--ratios 0.5 of 1 triangles give"):
+        targets("--ratios", "0.5", triangles=1)
 
 
 def test_expand_inputs_files_folders_globs(tmp_path):
     for name in ("b.obj", "a.glb", "c.GLTF", "c.bin", ".hidden.obj", "sub/d.fbx"):
         (tmp_path / name).parent.mkdir(exist_ok=True)
         (tmp_path / name).write_text("x")
-    files, problems = cli.expand_inputs([str(tmp_path)])
+    files, problems = inputs.expand_inputs([str(tmp_path)])
     assert problems == [] and [f.name for f in files] == ["a.glb", "b.obj", "c.GLTF"]
-    files, problems = cli.expand_inputs([str(tmp_path / "*.obj"), str(tmp_path / "b.obj"), str(tmp_path / "**/*.fbx")])
+    files, problems = inputs.expand_inputs([str(tmp_path / "*.obj"), str(tmp_path / "b.obj"), str(tmp_path / "**/*.fbx")])
     assert problems == [] and [f.name for f in files] == ["b.obj", "d.fbx"]  # duplicates once, recursive glob
-    files, problems = cli.expand_inputs([str(tmp_path / "*.bin")])
+    files, problems = inputs.expand_inputs([str(tmp_path / "*.bin")])
     assert files == [] and problems == [f"no files of a supported type (.blend .obj .ply .stl .glb .gltf .fbx) "
                                         f"match {str(tmp_path / '*.bin')!r}"]
 
 
 def test_option_round_trip_for_child_processes():
     """--jobs children get the parent's options back from the parsed namespace."""
-    parser = cli.build_parser("test")
+    parser = arguments.build_parser("test")
     argv = ["--input", "a.obj", "--objects", "A", "B C", "--faces", "900", "90", "--line-weight", "0.0125",
             "--importance-group", "Paint Me", "--from-armature", "--strength", "0.3", "--mode", "strong",
             "--no-preserve-seams", "--no-preserve-materials", "--sharp-strength", "2.5", "--no-modifiers",
@@ -161,7 +169,7 @@ def test_option_round_trip_for_child_processes():
             "--jobs", "3", "--report", "r.json"]
     args = parser.parse_args(argv)
     skip = {"input", "sample", "output", "output_dir", "format", "report", "jobs"}
-    again = parser.parse_args(cli._option_argv(parser, args, skip) + ["--report", "other.json"])
+    again = parser.parse_args(arguments.option_argv(parser, args, skip) + ["--report", "other.json"])
     for name, value in vars(args).items():
         if name not in skip:
             assert getattr(again, name) == value, name
@@ -173,7 +181,7 @@ def test_table_format():
              "mean_percent": 0.01, "mean_quality": 0.8, "min_quality": 0.3, "sliver_percent": 1.25, "seconds": 0.5}
     files = [{"label": "rock.obj", "objects": [{"levels": [
         dict(level, level=0, name="Rock_LOD0", target=None, triangles=2000, seconds=0.0), level]}]}]
-    lines = cli.format_table(files).splitlines()
+    lines = report.format_table(files).splitlines()
     assert lines[0].split("  ")[0] == "File" and len(lines) == 4
     cells = lines[3].split()
     assert cells[:6] == ["rock.obj", "Rock_LOD1", "LOD1", "999", "1,000", "0.500"]

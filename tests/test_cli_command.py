@@ -45,7 +45,7 @@ finally:
     bpy.utils.register_cli_command, bpy.utils.unregister_cli_command = real_register, real_unregister
 handler = R.pop("handler")
 R["events"] = events
-cli = importlib.import_module(handler.__module__)
+scene_files = importlib.import_module(handler.__module__.rsplit(".", 1)[0] + ".headless.scene_files")
 
 def call(*argv):
     out, err = io.StringIO(), io.StringIO()
@@ -117,17 +117,17 @@ R["good_run"] = call("--input", blend, "--ratios", "0.5", "--output", good, "--q
 before = digest(good)
 R["bad_objects"] = call("--input", blend, "--objects", "Nope", "Camera", "--output", good)
 R["impossible"] = call("--input", blend, "--faces", "5000", "--output", good)
-real_export = cli._export
+real_export = scene_files.export_scene
 
 def failing_export(path):
     open(path, "wb").write(b"half a file")
     raise RuntimeError("Error: No space left on device\n")
 
-cli._export = failing_export
+scene_files.export_scene = failing_export
 try:
     R["export_fails"] = call("--input", blend, "--ratios", "0.5", "--output", good)
 finally:
-    cli._export = real_export
+    scene_files.export_scene = real_export
 R["good_unchanged"] = digest(good) == before
 # a re-run on its own output replaces the LODs instead of making LODs of LODs
 again = os.path.join(W, "again.blend")

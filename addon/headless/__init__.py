@@ -1,0 +1,18 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The command line's parts; addon/cli.py is its entry point and shows the whole run.
+
+Modules (one idea each). Those marked * need bpy and are imported only once the options
+and inputs have been checked, so a mistyped option or a missing file fails at once:
+    errors        UsageError (bad command line) and InputError (one input fails)
+    arguments     the parser and --help, checks argparse cannot make, options back to argv
+    lod_settings  LodSettings from the options; ChainSettings, the chain as --ratios/--faces
+    inputs        file formats, --input expanded into files, one InputJob per input (bpy
+                  only for the open .blend when there is no --input)
+    console       progress and error lines on stderr
+    progress    * an input's per-object, per-LOD progress lines with the time left
+    scene_files * an input into the scene, the scene out to a file atomically
+    sources     * which objects get LODs, with which importance
+    one_input   * one input: load, LodJob (addon/job.py), LOD0 names and group, write
+    report        the JSON report, the table and the notes
+    process_pool* --jobs N: one Blender process per input, N at a time
+"""

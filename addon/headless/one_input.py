@@ -1,0 +1,109 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""One input in this Blender process: load it, make the LODs of its objects through the
+same LodJob the panel uses, name the chains, write the outputs.
+
+A failing input becomes its report entry with ``ok`` False and the reason; the other
+inputs of the run are still done.
+"""
+from __future__ import annotations
+
+import dataclasses
+import time
+import traceback
+
+from ..settings import LodError
+from . import report, scene_files, sources
+from .console import Console
+from .errors import InputError
+from .inputs import InputJob
+from .lod_settings import settings_from_args
+
+
+def make_lods(objects, args, console: Console, label: str, files_left_seconds: float) -> list:
+    """Simplify ``objects`` and link their LODs; returns one report entry per object."""
+    import bpy
+
+    from ..job import LodJob
+    from .progress import ProgressLines
+
+    base = settings_from_args(args)
+    choices = sources.importance_choice(objects, args)
+    settings = [dataclasses.replace(base, importance_source=source, importance_group=group)
+                for source, group, _ in choices]
+    job = LodJob(bpy.context, objects, settings)
+    for lod_input, (_, _, note) in zip(job.inputs, choices):
+        if note:
+            lod_input.warnings.append(note)
+    job.run(observer=ProgressLines(console, label, job.inputs, files_left_seconds))
+    reports = job.commit(bpy.context)
+    return [report.chain_entry(rep, out, sources.importance_label(source, group))
+            for rep, out, (source, group, _) in zip(reports, job.outputs, choices)]
+
+
+def name_chains(entries: list, lod_group: bool) -> None:
+    """Rename each source "<name>_LOD0" and, with ``lod_group``, group each chain for
+    Unreal (addon/lod_group.py); the entries get the new names."""
+    import bpy
+
+    from .. import lod_group as naming
+
+    for entry in entries:
+        base = entry["object"]
+        source = bpy.data.objects[base]
+        entry["levels"][0]["name"] = naming.rename_as_lod0(source)
+        if lod_group:
+            chain = [source] + [bpy.data.objects[level["name"]] for level in entry["levels"][1:]]
+            entry["lod_group"] = naming.group_chain(bpy.context, base, chain).name
+
+
+def process(job: InputJob, args, console: Console, files_left_seconds: float = 0.0) -> dict:
+    """Load one input, make its LODs, write its outputs. Never raises (but KeyboardInterrupt):
+    returns the file's report entry with ``ok`` and ``error``."""
+    t0 = time.perf_counter()
+    entry = {"input": str(job.path) if job.path else job.label, "label": job.label, "ok": False,
+             "error": None, "outputs": [], "objects": [], "warnings": [], "seconds": 0.0}
+    try:
+        import bpy
+
+        from .. import lod_group
+
+        console.progress(f"[{job.label}] loading")
+        scene_files.load(job, args.debug)
+        scene = bpy.context.scene
+        lod_group.restore_base_names(scene)
+        objects, skipped = sources.select_objects(scene, args.objects)
+        entry["warnings"] += skipped
+        entries = make_lods(objects, args, console, job.label, files_left_seconds)
+        name_chains(entries, args.lod_group)
+        entry["objects"] = entries
+        for out in job.outputs:
+            console.progress(f"[{job.label}] writing {out}")
+            scene_files.write_atomically(out, args.debug)
+            entry["outputs"].append(str(out))
+        entry["ok"] = True
+    except (InputError, LodError) as ex:
+        entry["error"] = str(ex)
+    except KeyboardInterrupt:
+        raise
+    except Exception as ex:  # a bug or an importer's surprise: one line, details on request
+        if args.debug:
+            traceback.print_exc()
+        entry["error"] = f"unexpected {type(ex).__name__}: {ex}" + ("" if args.debug else " (--debug shows details)")
+    entry["seconds"] = time.perf_counter() - t0
+    return entry
+
+
+def run_serial(jobs: list, args, console: Console) -> list:
+    """Every input in this process, one after the other; their report entries."""
+    files = []
+    t0 = time.perf_counter()
+    for i, job in enumerate(jobs):
+        if len(jobs) > 1:
+            console.progress(f"[{job.label}] file {i + 1} of {len(jobs)}")
+        # Files not started yet, estimated at the average so far (0 before the first ends).
+        average = (time.perf_counter() - t0) / i if i else 0.0
+        entry = process(job, args, console, average * (len(jobs) - 1 - i))
+        if not entry["ok"]:
+            console.error(f"{job.label}: {entry['error']}")
+        files.append(entry)
+    return files

@@ -1,0 +1,127 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The run's result: the JSON report (--report), the table on stdout and the notes and
+failures after it. Each object's entry is lod.commit()'s report with the source as LOD0.
+"""
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from .._core import core
+from .lod_settings import DEFAULT_RATIOS, settings_from_args
+
+def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
+    """One object's report entry: lod.commit()'s report with its source as the level 0
+    row, each LOD's own seconds, and the importance it was made with ("NONE",
+    "ARMATURE" or "VERTEX_GROUP:<name>")."""
+    rep = commit_report
+    data = lod_output.input.data
+    source = {"level": 0, "name": rep["object"], "target": None, "triangles": int(len(data.faces)),
+              "vertices": int(len(data.vertices)), "seconds": 0.0}
+    if lod_output.input.settings.measure_deviation:
+        source.update(hausdorff_percent=0.0, mean_percent=0.0)
+    source.update(core.quality_summary(data.vertices, data.faces))
+    previous = 0.0
+    for level in rep["levels"]:
+        # The engine's time is cumulative along the chain; the report gives each LOD its share.
+        cumulative = level["seconds"]
+        level["seconds"], previous = max(cumulative - previous, 0.0), cumulative
+    rep["levels"] = [source] + rep["levels"]
+    rep["importance"] = importance
+    return rep
+
+
+def settings_summary(args) -> dict:
+    s = settings_from_args(args)
+    # The chain and the importance as the options gave them, after the panel's settings.
+    out = {k: v for k, v in vars(s).items() if k not in ("ratio", "levels", "level_factor", "target_triangles",
+                                                         "importance_source", "importance_group",
+                                                         "ratios", "faces")}
+    out.update(ratios=None if args.faces else list(args.ratios or DEFAULT_RATIOS),
+               faces=list(args.faces) if args.faces else None,
+               importance_group=args.importance_group, from_armature=bool(args.from_armature),
+               lod_group=bool(args.lod_group))
+    return out
+
+
+def make_report(tool: str, args, files: list, seconds: float) -> dict:
+    failures = [{"input": f["input"], "error": f["error"]} for f in files if not f["ok"]]
+    return {
+        "tool": tool,
+        "settings": settings_summary(args),
+        "files": files,
+        "failures": failures,
+        "ok": not failures,
+        "seconds": seconds,
+    }
+
+
+def _fmt(value, spec, empty="-"):
+    return empty if value is None else format(value, spec)
+
+
+def format_table(files: list) -> str:
+    header = ["File", "Object", "LOD", "Triangles", "Target", "Hausdorff %", "Mean %",
+              "Quality mean/min", "Slivers %", "Seconds"]
+    rows = []
+    for f in files:
+        for obj in f["objects"]:
+            for level in obj["levels"]:
+                rows.append([
+                    f["label"], level["name"], f"LOD{level['level']}", f"{level['triangles']:,}",
+                    _fmt(level.get("target"), ","),
+                    _fmt(level.get("hausdorff_percent"), ".3f"), _fmt(level.get("mean_percent"), ".4f"),
+                    f"{level['mean_quality']:.3f} / {level['min_quality']:.3f}",
+                    f"{level['sliver_percent']:.2f}",
+                    "-" if level["level"] == 0 else f"{level['seconds']:.2f}",
+                ])
+    if not rows:
+        return ""
+    widths = [max(len(str(r[i])) for r in rows + [header]) for i in range(len(header))]
+    left = {0, 1, 2}
+
+    def line(cells):
+        return "  ".join(str(c).ljust(w) if i in left else str(c).rjust(w)
+                         for i, (c, w) in enumerate(zip(cells, widths))).rstrip()
+
+    out = [line(header), line(["-" * w for w in widths])]
+    out += [line(r) for r in rows]
+    return "\n".join(out)
+
+
+def print_results(report: dict) -> None:
+    table = format_table(report["files"])
+    if table:
+        print(table)
+    for f in report["files"]:
+        for warning in f["warnings"]:
+            print(f"note: {f['label']}: {warning}")
+        for obj in f["objects"]:
+            for warning in obj.get("warnings", []):
+                print(f"note: {f['label']}: {obj['object']}: {warning}")
+    n = len(report["files"])
+    failed = report["failures"]
+    written = [o for f in report["files"] for o in f["outputs"]]
+    print(f"{n - len(failed)} of {n} input{'s' if n != 1 else ''} done in {report['seconds']:.1f} s"
+          + (f", {len(written)} file{'s' if len(written) != 1 else ''} written" if written else ""))
+    for f in failed:
+        print(f"FAILED {f['input']}: {f['error']}")
+    sys.stdout.flush()
+
+
+def write_json_atomically(path: Path, data) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=2)
+            fh.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise

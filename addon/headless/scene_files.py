@@ -1,0 +1,174 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Files in and out of the Blender scene: an input file imported into a fresh scene,
+the scene exported to an output atomically (a temporary folder, then a rename), and the
+importers' and exporters' own console output kept off ours.
+
+bpy is imported inside the functions: the options are checked before Blender loads.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from .errors import InputError
+
+
+def clean_blender_error(ex: BaseException) -> str:
+    # Operators fail with RuntimeError("Error: <report>\n"); one line, without the prefix.
+    text = " ".join(line.strip() for line in str(ex).strip().splitlines() if line.strip())
+    for prefix in ("Error: ", "Error:"):
+        if text.startswith(prefix):
+            text = text[len(prefix):]
+    return text or type(ex).__name__
+
+
+@contextlib.contextmanager
+def blender_output(show: bool):
+    """Keep importers' and exporters' own prints (C and Python) off our stdout/stderr.
+
+    stdout carries the table, stderr our progress and errors; Blender's "Info: Saved",
+    "OBJ import ... took" and the glTF add-on's messages would interleave with both.
+    Errors still reach the user through the operator's exception.
+    """
+    if show:
+        yield
+        return
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    try:
+        with open(os.devnull, "wb") as sink:
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            try:
+                yield
+            finally:
+                sys.stdout.flush()
+                sys.stderr.flush()
+                _flush_c_stdio()
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in saved:
+            os.close(fd)
+
+
+def _flush_c_stdio() -> None:
+    # Blender's C code prints through stdio buffers; flush them into the sink before the
+    # real descriptors come back, or the text would appear later on the console.
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError, TypeError):
+        pass
+
+
+
+def reset_scene() -> None:
+    import bpy
+
+    # Keeps the preferences and enabled add-ons (read_factory_settings would not).
+    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
+
+
+def import_file(path: Path) -> None:
+    import bpy
+
+    ext = path.suffix.lower()
+    fp = str(path)
+    if ext == ".blend":
+        bpy.ops.wm.open_mainfile(filepath=fp, load_ui=False)
+        return
+    reset_scene()
+    if ext == ".obj":
+        bpy.ops.wm.obj_import(filepath=fp)
+    elif ext == ".ply":
+        bpy.ops.wm.ply_import(filepath=fp)
+    elif ext == ".stl":
+        bpy.ops.wm.stl_import(filepath=fp)
+    elif ext in (".glb", ".gltf"):
+        # No bone-shape icosphere: it would be one more mesh object to make LODs of.
+        bpy.ops.import_scene.gltf(filepath=fp, disable_bone_shape=True)
+    elif ext == ".fbx":
+        bpy.ops.import_scene.fbx(filepath=fp)
+    else:  # expand_inputs lets only the formats above through
+        raise InputError(f"unsupported input format {ext!r}")
+
+
+def load(job, show_output: bool) -> None:
+    """Bring ``job``'s input into the scene: a file opened or imported into a fresh
+    scene, the built-in sample built in one, or the open .blend as it is."""
+    import bpy
+
+    from .. import sample
+
+    if job.kind == "file":
+        try:
+            with blender_output(show_output):
+                import_file(job.path)
+        except RuntimeError as ex:
+            raise InputError(f"could not import {job.path}: {clean_blender_error(ex)}") from ex
+    elif job.kind == "sample":
+        reset_scene()
+        with blender_output(show_output):
+            sample.build(bpy.context)
+    ctx = bpy.context
+    if ctx.view_layer is not None and ctx.mode != 'OBJECT' and ctx.view_layer.objects.active is not None:
+        bpy.ops.object.mode_set(mode='OBJECT')
+
+
+def export_scene(path: Path) -> None:
+    import bpy
+
+    ext = path.suffix.lower()
+    fp = str(path)
+    if ext == ".blend":
+        bpy.ops.wm.save_as_mainfile(filepath=fp, copy=True, check_existing=False)
+    elif ext in (".glb", ".gltf"):
+        # export_apply: the LODs were made from the evaluated meshes, so LOD0 must be
+        # written evaluated too (the exporter leaves skinning to the glTF skin).
+        bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
+                                  use_selection=False, export_apply=True)
+    elif ext == ".fbx":
+        bpy.ops.export_scene.fbx(filepath=fp, use_selection=False, use_mesh_modifiers=True,
+                                 use_custom_props=True, add_leaf_bones=False)
+    elif ext == ".obj":
+        bpy.ops.wm.obj_export(filepath=fp, export_selected_objects=False, apply_modifiers=True)
+    else:
+        raise InputError(f"unsupported output format {ext!r}")
+
+
+def write_atomically(path: Path, show_output: bool) -> None:
+    """Export the scene to ``path`` through a temporary folder next to it, then rename.
+
+    The exporter writes into ``.<name>.<random>.part/<name>`` (companion files such as a
+    .gltf's .bin or an .obj's .mtl keep the names it gives them); only after it
+    succeeded are the files moved into place, the main file last. A failure leaves any
+    earlier file at ``path`` untouched.
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp_dir = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent))
+    try:
+        target = tmp_dir / path.name
+        try:
+            with blender_output(show_output):
+                export_scene(target)
+        except RuntimeError as ex:
+            raise InputError(f"could not write {path}: {clean_blender_error(ex)}") from ex
+        if not target.is_file():
+            raise InputError(f"could not write {path}: the exporter wrote nothing")
+        for extra in sorted(tmp_dir.iterdir()):
+            if extra != target:
+                dest = path.parent / extra.name
+                if extra.is_dir() and dest.is_dir():
+                    shutil.rmtree(dest)
+                os.replace(extra, dest)
+        os.replace(target, path)
+    finally:
+        shutil.rmtree(tmp_dir, ignore_errors=True)
+

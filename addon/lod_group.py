@@ -1,0 +1,69 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A LOD chain named the way game engines pick it up.
+
+Unity builds its LOD Group from the suffixes: the source is renamed "<name>_LOD0" next
+to the LODs "<name>_LOD1" .. "<name>_LODn" that lod.py makes. Unreal reads an FBX LOD
+group: an Empty "<name>_LODGroup" with the custom property fbx_type = "LodGroup", parent
+of the whole chain, which the FBX exporter writes as such.
+
+A renamed source keeps its name before in a custom property, so a later run on the
+same file gives it back first: its earlier LODs (which record that name as their source)
+are then replaced instead of the renamed source getting LODs of its own.
+"""
+from __future__ import annotations
+
+import bpy
+
+from . import lod
+from .settings import LodError
+
+BASE_NAME_PROP = "lod_base_name"  # on a source renamed "<name>_LOD0": its name before
+LOD_GROUP_SUFFIX = "_LODGroup"
+
+
+def restore_base_names(scene) -> None:
+    """Give every source that :func:`rename_as_lod0` renamed its name back."""
+    for ob in scene.objects:
+        base = ob.get(BASE_NAME_PROP)
+        if isinstance(base, str) and ob.name == f"{base}_LOD0":
+            ob.name = base
+            del ob[BASE_NAME_PROP]
+
+
+def rename_as_lod0(source) -> str:
+    """Rename ``source`` "<name>_LOD0"; returns the new name. LodError if that name is taken."""
+    base = source.name
+    wanted = f"{base}_LOD0"
+    if wanted in bpy.data.objects:
+        raise LodError(f'cannot rename "{base}" to "{wanted}": an object of that name exists')
+    source.name = wanted
+    source[BASE_NAME_PROP] = base
+    return source.name
+
+
+def group_chain(context, base: str, chain: list):
+    """Parent ``chain`` (LOD0 first) to the Empty "<base>_LODGroup", made where LOD0 is
+    unless it exists, keeping every object where it is in the world. Returns the Empty."""
+    scene = context.scene
+    source = chain[0]
+    name = base + LOD_GROUP_SUFFIX
+    empty = bpy.data.objects.get(name)
+    if empty is None or empty.type != 'EMPTY':
+        empty = bpy.data.objects.new(name, None)
+        # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
+        collection = next((c for c in source.users_collection if lod._in_scene(c, scene)), scene.collection)
+        collection.objects.link(empty)
+    empty["fbx_type"] = "LodGroup"
+    # The group takes LOD0's place in the hierarchy (an armature or bone parent stays).
+    empty.parent = source.parent
+    if source.parent is not None and source.parent_type == 'BONE':
+        empty.parent_type, empty.parent_bone = 'BONE', source.parent_bone
+    empty.matrix_parent_inverse = source.matrix_parent_inverse.copy()
+    context.view_layer.update()
+    for ob in chain:
+        world = ob.matrix_world.copy()
+        ob.parent = empty
+        ob.parent_type = 'OBJECT'
+        ob.matrix_parent_inverse.identity()
+        ob.matrix_world = world
+    return empty
