@@ -15,7 +15,7 @@ import bpy  # noqa: F401  (brings mathutils, which the distance measure uses)
 
 from addon.measure import surface_deviation
 from core import engine, simplify
-from meshgen import arm_tube
+from synthetic_meshes import arm_tube
 from sequential import simplify_sequential
 
 

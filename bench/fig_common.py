@@ -103,7 +103,7 @@ def bumpy_sphere(subdivisions: int = 5, amplitude: float = 0.08):
     F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
                   [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
                   [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int64)
-    from meshgen import subdivide_midpoint
+    from synthetic_meshes import subdivide_midpoint
 
     for _ in range(subdivisions):
         V, F = subdivide_midpoint(V, F)

@@ -36,7 +36,7 @@ import numpy as np
 import peers
 from addon.measure import DEFAULT_SAMPLES, mesh_report
 from blender_reference import decimate, load_mesh
-from meshgen import subdivide_midpoint
+from synthetic_meshes import subdivide_midpoint
 from core.weld import weld_map
 
 MESH_SUFFIXES = (".obj", ".gltf", ".glb")

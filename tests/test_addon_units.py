@@ -4,19 +4,11 @@ import pytest
 
 from addon import edges, importance
 from addon.settings import LodError, LodSettings
-
-
-def grid(n):
-    """(n+1)^2 vertices, 2 n^2 triangles on the unit square."""
-    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
-    v = np.c_[x.ravel(), y.ravel(), np.zeros((n + 1) ** 2)]
-    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
-    return v, np.r_[np.c_[a, b, c], np.c_[a, c, d]]
+from mesh_builders import grid
 
 
 def test_adjacent_pairs_counts_interior_edges():
-    v, f = grid(3)
+    v, f = grid(3, alternate=False)
     e, fa, fb = edges.adjacent_triangle_pairs(f)
     # Every interior edge has two half-edges, each of the 12 boundary edges one.
     total = (3 * len(f) + 12) // 2
@@ -26,7 +18,7 @@ def test_adjacent_pairs_counts_interior_edges():
 
 
 def test_differing_edges_is_the_material_border():
-    v, f = grid(4)
+    v, f = grid(4, alternate=False)
     centroid_x = v[f].mean(axis=1)[:, 0]
     mat = (centroid_x > 0.5).astype(int)
     border = edges.differing_edges(f, mat)
@@ -36,7 +28,7 @@ def test_differing_edges_is_the_material_border():
 
 
 def test_corner_discontinuous_edges_finds_the_seam_only():
-    v, f = grid(4)
+    v, f = grid(4, alternate=False)
     uv = v[f][:, :, :2].copy()
     right = v[f].mean(axis=1)[:, 0] > 0.5
     uv[right] += [2.0, 0.0]  # the right half is a separate UV island
@@ -130,7 +122,7 @@ def test_validate_rejects_bad_values(field, value, message):
 
 
 def test_face_regions_split_by_closed_cuts_only():
-    v, f = grid(6)
+    v, f = grid(6, alternate=False)
     cx = v[f].mean(axis=1)[:, 0]
     vertical = np.array([[i * 7 + 3, (i + 1) * 7 + 3] for i in range(6)])  # the line x = 0.5
     labels = edges.face_regions(f, vertical)
@@ -140,7 +132,7 @@ def test_face_regions_split_by_closed_cuts_only():
     assert len(np.unique(edges.face_regions(f, np.empty((0, 2))))) == 1
 
 
-def test_face_regions_label_long_strips_quickly():
+def test_face_regions_split_a_long_strip_at_its_one_cut():
     # A 2 x 4000 strip: the diameter is 8000 triangles; hook-and-compress needs few rounds.
     x, y = np.meshgrid(np.arange(4001), np.arange(2))
     v = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]

@@ -3,21 +3,13 @@ skipped with a one-line note (CI has none of them installed), outputs are compac
 the installed peers reach the face target they are given. No bpy: peers.py never imports it."""
 from __future__ import annotations
 
-import importlib.util
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from meshgen import torus
-
-# Loaded from its file under its own name: putting bench/ on sys.path would let bench/meshgen.py
-# shadow tests/meshgen.py for every later test.
-_spec = importlib.util.spec_from_file_location(
-    "bench_peers", Path(__file__).resolve().parent.parent / "bench" / "peers.py")
-peers = sys.modules["bench_peers"] = importlib.util.module_from_spec(_spec)  # dataclasses look it up
-_spec.loader.exec_module(peers)
+from bench import peers
+from mesh_builders import torus
 
 
 def test_missing_peers_are_skipped_with_one_note_each(monkeypatch):

@@ -3,22 +3,13 @@ output is a valid mesh at the target, and its first collapse is the globally che
 edge under the paper's cost. No bpy: only the command line part imports it."""
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from bench import sequential
 from core import prepare, quadrics, topology, vertex_quadrics
-from meshgen import assert_valid_mesh, edge_table, euler_characteristic, torus, tube
-
-# Loaded from its file under its own name (as test_bench_peers does): putting bench/ on
-# sys.path would let bench/meshgen.py shadow tests/meshgen.py.
-_spec = importlib.util.spec_from_file_location(
-    "bench_sequential", Path(__file__).resolve().parent.parent / "bench" / "sequential.py")
-sequential = sys.modules["bench_sequential"] = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(sequential)
+from mesh_builders import torus, tube
+from mesh_checks import assert_valid_mesh, edge_table, euler_characteristic
 
 
 def _bumpy_torus(seed=0):

@@ -7,7 +7,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
 import core
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 from core.guards import relaxation_ladder
 
 # The first relaxation steps (core.guards) at which seam ends slide, and seams are free.
@@ -30,17 +31,17 @@ def _seam_graph_degree(edges, n):
 
 
 UV_MESHES = {
-    "sphere": lambda: mg.uv_sphere(24, 16) + (None,),
-    "sphere_fan_poles": lambda: mg.uv_sphere(24, 16, pole_uv="fan") + (None,),
-    "cube": lambda: mg.cube(6) + (None,),
-    "cube_split": lambda: mg.cube(6, split=True) + ("split",),
+    "sphere": lambda: build.uv_sphere(24, 16) + (None,),
+    "sphere_fan_poles": lambda: build.uv_sphere(24, 16, pole_uv="fan") + (None,),
+    "cube": lambda: build.cube(6) + (None,),
+    "cube_split": lambda: build.cube(6, split=True) + ("split",),
 }
 
 
 def _reference(V, F, UV, split):
     """The welded input the seams are judged on, and each input vertex's welded index."""
     if split:
-        Vw, Fw, index = mg.weld_exact(V, F, return_map=True)
+        Vw, Fw, index = build.weld_exact(V, F, return_map=True)
         return Vw, Fw, index
     return V, F, np.arange(len(V))
 
@@ -54,10 +55,10 @@ def _check_seams(V, F, UV, split, r, chord=0.15):
     edge for an arc of theta radians (0.13 for 60 degrees, 0.2 for 90).
     """
     Vw, Fw, index = _reference(V, F, UV, split)
-    seams_in = mg.seam_edges(Fw, UV)
+    seams_in = check.seam_edges(Fw, UV)
     uv_out = r.corner_attributes["uv"]
     assert uv_out.shape == (len(r.faces), 3, 2)
-    seams_out = mg.seam_edges(r.faces, uv_out)
+    seams_out = check.seam_edges(r.faces, uv_out)
     assert len(seams_out) > 0
 
     # Output seam vertices descend from input seam vertices ...
@@ -65,22 +66,22 @@ def _check_seams(V, F, UV, split, r, chord=0.15):
     assert np.isin(index[r.vertex_origin[seam_v_out]], np.unique(seams_in)).all()
     # ... and every output seam edge joins two vertices of one input seam branch (the
     # chain between two seam ends or junctions): it follows that seam, never cuts across.
-    inc_v, inc_b = mg.seam_branches(len(Vw), seams_in)
-    along = mg.edges_along_branches(index[r.vertex_origin[seams_out]], inc_v, inc_b)
+    inc_v, inc_b = check.seam_branches(len(Vw), seams_in)
+    along = check.edges_along_branches(index[r.vertex_origin[seams_out]], inc_v, inc_b)
     assert along.all(), f"{np.count_nonzero(~along)} output seam edges leave their input seam"
     # Geometrically: samples along each output seam edge stay within a chord's sagitta
     # of the input seam polyline ...
     length = np.linalg.norm(r.vertices[seams_out[:, 0]] - r.vertices[seams_out[:, 1]], axis=1)
-    d = mg.distance_to_polyline(_edge_samples(r.vertices, seams_out), Vw, seams_in).reshape(len(seams_out), -1)
+    d = check.distance_to_polyline(_edge_samples(r.vertices, seams_out), Vw, seams_in).reshape(len(seams_out), -1)
     assert np.all(d.max(1) <= chord * length + 1e-12), (d.max(1) / length).max()
     # ... while the input seam stays covered by output seam edges (nothing dropped).
-    back = mg.distance_to_polyline(_edge_samples(Vw, seams_in), r.vertices, seams_out)
+    back = check.distance_to_polyline(_edge_samples(Vw, seams_in), r.vertices, seams_out)
     assert back.max() <= chord * length.max(), back.max() / length.max()
 
     # Continuous polylines: as many seam components as before, and the seam ends and
     # junctions (degree != 2) are exactly the input's, in place.
-    n_comp_in = mg.count_components(len(Vw), seams_in)
-    assert mg.count_components(len(r.vertices), seams_out) == n_comp_in
+    n_comp_in = check.count_components(len(Vw), seams_in)
+    assert check.count_components(len(r.vertices), seams_out) == n_comp_in
     deg_in = _seam_graph_degree(seams_in, len(Vw))
     deg_out = _seam_graph_degree(seams_out, len(r.vertices))
     special_in = np.flatnonzero((deg_in > 0) & (deg_in != 2))
@@ -94,11 +95,11 @@ def _check_uvs(V, F, UV, split, r):
     """No UV triangle flipped; every corner's UV inside its face's input island."""
     Vw, Fw, index = _reference(V, F, UV, split)
     uv_out = r.corner_attributes["uv"]
-    a_in = mg.uv_signed_area(UV)[r.face_origin]
-    a_out = mg.uv_signed_area(uv_out)
+    a_in = check.uv_signed_area(UV)[r.face_origin]
+    a_out = check.uv_signed_area(uv_out)
     assert np.all(np.sign(a_out) == np.sign(a_in)), "a UV triangle flipped or collapsed"
     # Each island here is a rectangle in UV space, so its bounding box is the island.
-    island = mg.uv_islands(Fw, UV)
+    island = check.uv_islands(Fw, UV)
     n_isl = island.max() + 1
     flat_isl = np.repeat(island, 3)
     flat_uv = UV.reshape(-1, 2)
@@ -116,8 +117,8 @@ def _check_uvs(V, F, UV, split, r):
 def test_seams_survive_as_continuous_polylines(name):
     V, F, UV, split = UV_MESHES[name]()
     r = _simplify_uv(V, F, UV)
-    mg.assert_valid_result(r, V, F)
-    assert len(mg.boundary_edges(r.faces)) == 0, "closed input got a boundary"
+    check.assert_valid_result(r, V, F)
+    assert len(check.boundary_edges(r.faces)) == 0, "closed input got a boundary"
     assert r.stats.stop_reason == "target_reached"
     # Every pole-ring vertex of the fan-pole sphere is a locked seam end, so the
     # meridians take the coarsening and may end as chords of up to 90 degrees (sagitta
@@ -138,10 +139,10 @@ def test_no_uv_triangle_flips_and_uvs_stay_in_their_island(name):
 def uv_meshes(draw):
     kind = draw(st.sampled_from(["sphere", "sphere_fan", "cube", "cube_split"]))
     if kind.startswith("sphere"):
-        V, F, UV = mg.uv_sphere(draw(st.integers(8, 24)), draw(st.integers(6, 14)), radius=draw(st.floats(0.1, 10)),
+        V, F, UV = build.uv_sphere(draw(st.integers(8, 24)), draw(st.integers(6, 14)), radius=draw(st.floats(0.1, 10)),
                                 pole_uv="fan" if kind == "sphere_fan" else "shared")
         return V, F, UV, None
-    V, F, UV = mg.cube(draw(st.integers(2, 7)), split=kind == "cube_split", half=draw(st.floats(0.1, 10)))
+    V, F, UV = build.cube(draw(st.integers(2, 7)), split=kind == "cube_split", half=draw(st.floats(0.1, 10)))
     return V, F, UV, "split" if kind == "cube_split" else None
 
 
@@ -158,9 +159,9 @@ def test_random_uv_meshes_keep_seams_and_uvs(mesh, ratio, w, seed):
     target = max(round(ratio * len(F)), 24)
     r = core.simplify(V, F, target_faces=target, line_weight=w, seed=seed,
                       corner_attributes={"uv": UV}, uv_attributes=("uv",))
-    mg.assert_valid_result(r, V, F)
-    mg.assert_target_respected(r, target)
-    assert len(mg.boundary_edges(r.faces)) == 0
+    check.assert_valid_result(r, V, F)
+    check.assert_target_respected(r, target)
+    assert len(check.boundary_edges(r.faces)) == 0
     # The seam and UV promises hold as long as the run did not need to relax their rules
     # to reach the target (core.guards).
     if r.stats.relaxation_step < SEAM_ENDS_SLIDE:
@@ -174,9 +175,9 @@ def test_cube_seam_corners_keep_uvs_on_their_own_island_border(split):
     """Both sides of a seam move together, each keeping its own values: on the cube the
     UV of each island is an affine map of the position, so a corner sliding along a cube
     edge must carry exactly that map's UV on each side."""
-    V, F, UV = mg.cube(6, split=split)
-    Vw, Fw, index = mg.weld_exact(V, F, return_map=True)
-    island = mg.uv_islands(Fw, UV)
+    V, F, UV = build.cube(6, split=split)
+    Vw, Fw, index = build.weld_exact(V, F, return_map=True)
+    island = check.uv_islands(Fw, UV)
     # Least-squares affine map uv = [x, y, z, 1] @ M per island (exact for this cube).
     maps = []
     for i in range(island.max() + 1):
@@ -187,7 +188,7 @@ def test_cube_seam_corners_keep_uvs_on_their_own_island_border(split):
         maps.append(M)
     maps = np.array(maps)
     r = _simplify_uv(V, F, UV)
-    seams_out = mg.seam_edges(r.faces, r.corner_attributes["uv"])
+    seams_out = check.seam_edges(r.faces, r.corner_attributes["uv"])
     on_seam = np.isin(r.faces, np.unique(seams_out))
     f_idx, c_idx = np.nonzero(on_seam)
     pos = r.vertices[r.faces[f_idx, c_idx]]
@@ -198,61 +199,61 @@ def test_cube_seam_corners_keep_uvs_on_their_own_island_border(split):
 
 def test_split_cube_welds_and_simplifies_as_a_closed_shape():
     # 24 vertices (4 per side) weld to the 8 corners.
-    V, F, UV = mg.cube(1, split=True)
-    assert len(V) == 24 and mg.boundary_loops(F) == 6
+    V, F, UV = build.cube(1, split=True)
+    assert len(V) == 24 and check.boundary_loops(F) == 6
     r = _simplify_uv(V, F, UV, ratio=1.0)
     assert r.stats.welded_vertices == 16
-    assert len(r.vertices) == 8 and len(mg.boundary_edges(r.faces)) == 0
+    assert len(r.vertices) == 8 and len(check.boundary_edges(r.faces)) == 0
     # Welded, it simplifies as one closed shape (six open quads could not lose a face).
     r = core.simplify(V, F, ratio=0.5)
     assert r.stats.welded_vertices == 16 and r.stats.stop_reason == "target_reached"
-    assert len(r.faces) == 6 and len(mg.boundary_edges(r.faces)) == 0 and mg.euler_characteristic(r.faces) == 2
+    assert len(r.faces) == 6 and len(check.boundary_edges(r.faces)) == 0 and check.euler_characteristic(r.faces) == 2
     # With its UVs every corner is a seam junction (three seams meet): kept, nothing
     # could collapse, so the seam rule relaxes and the target is reached all the same.
     r = _simplify_uv(V, F, UV, ratio=0.5)
     assert len(r.faces) == 6 and r.stats.stop_reason == "target_reached"
-    assert r.stats.relaxation_step >= SEAM_ENDS_SLIDE and mg.euler_characteristic(r.faces) == 2
+    assert r.stats.relaxation_step >= SEAM_ENDS_SLIDE and check.euler_characteristic(r.faces) == 2
     # Subdivided split cube: welded, simplified closed, seams kept.
-    V, F, UV = mg.cube(6, split=True)
+    V, F, UV = build.cube(6, split=True)
     r = _simplify_uv(V, F, UV)
-    assert r.stats.welded_vertices == len(V) - len(mg.weld_exact(V, F)[0])
-    mg.assert_valid_result(r, V, F)
+    assert r.stats.welded_vertices == len(V) - len(build.weld_exact(V, F)[0])
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached"
-    assert len(mg.boundary_edges(r.faces)) == 0
-    assert mg.euler_characteristic(r.faces) == 2
+    assert len(check.boundary_edges(r.faces)) == 0
+    assert check.euler_characteristic(r.faces) == 2
     # Without welding each side shrinks on its own: six open patches.
     apart = _simplify_uv(V, F, UV, weld_distance=-1.0)
     assert apart.stats.welded_vertices == 0
-    assert mg.boundary_loops(apart.faces) == 6
+    assert check.boundary_loops(apart.faces) == 6
 
 
 @pytest.mark.parametrize("weld_distance", [1e-5, 1.37e-4])
 def test_weld_distance_welds_nearly_coincident_vertices(weld_distance):
     """'weld vertices closer than this': copies 2e-7 apart at most, far closer than the
     weld distance, must all weld; vertices 0.5 apart must not."""
-    V, F, UV = mg.cube(4, split=True)
-    copies = len(V) - len(mg.weld_exact(V, F)[0])
+    V, F, UV = build.cube(4, split=True)
+    copies = len(V) - len(build.weld_exact(V, F)[0])
     rng = np.random.default_rng(0)
     Vn = V + rng.uniform(-1e-7, 1e-7, V.shape)  # exporters round positions slightly
     exact = _simplify_uv(Vn, F, UV, ratio=1.0)
     assert exact.stats.welded_vertices == 0
     near = _simplify_uv(Vn, F, UV, ratio=1.0, weld_distance=weld_distance)
     assert near.stats.welded_vertices == copies
-    assert len(mg.boundary_edges(near.faces)) == 0
+    assert len(check.boundary_edges(near.faces)) == 0
 
 
 # ---------------------------------------------------------------- materials
 
 
 def _material_run(feature_weight=None, ratio=0.2, curved=True):
-    V, F, mat = mg.two_material_sheet(20, curved=curved)
-    border = mg.material_border_edges(F, mat)
+    V, F, mat = build.two_material_sheet(20, curved=curved)
+    border = check.material_border_edges(F, mat)
     kw = {} if feature_weight is None else dict(feature_edges=border, feature_weight=feature_weight)
     r = core.simplify(V, F, ratio=ratio, **kw)
     out_mat = mat[r.face_origin]
-    border_out = mg.material_border_edges(r.faces, out_mat)
+    border_out = check.material_border_edges(r.faces, out_mat)
     size = np.linalg.norm(np.ptp(V, axis=0))
-    d = mg.distance_to_polyline(r.vertices[np.unique(border_out)], V, border)
+    d = check.distance_to_polyline(r.vertices[np.unique(border_out)], V, border)
     return V, F, mat, r, out_mat, border_out, d.max() / size
 
 
@@ -261,10 +262,10 @@ def _material_run(feature_weight=None, ratio=0.2, curved=True):
 def test_material_border_is_kept(ratio, curved):
     # The add-on hands material borders to the core as feature edges (weight 1 by default).
     V, F, mat, r, out_mat, border_out, dev = _material_run(1.0, ratio, curved)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert dev < 0.005, dev  # measured ~0.15 %
     # Still one polyline from one side of the sheet to the other.
-    assert mg.count_components(len(r.vertices), border_out) == 1
+    assert check.count_components(len(r.vertices), border_out) == 1
     deg = np.bincount(border_out.ravel())
     assert np.count_nonzero(deg == 1) == 2 and np.all(deg[deg > 0] <= 2)
     # face_origin carries materials exactly: each output face lies on its material's side.
@@ -279,7 +280,7 @@ def test_material_border_drifts_without_feature_edges():
 
 
 def test_face_origin_maps_every_face_to_a_valid_material():
-    V, F, mat = mg.two_material_sheet(16, curved=True)
+    V, F, mat = build.two_material_sheet(16, curved=True)
     mats = np.array([3, 7])[mat]  # arbitrary slot numbers
     r = core.simplify(V, F, ratio=0.15)
     out = mats[r.face_origin]
@@ -295,16 +296,16 @@ def test_face_origin_maps_every_face_to_a_valid_material():
 @pytest.mark.parametrize("mesh", ["sphere", "bumpy"])
 def test_skin_weights_stay_convex_and_sum_to_one(mesh):
     if mesh == "sphere":
-        V, F, _ = mg.uv_sphere(20, 12)
+        V, F, _ = build.uv_sphere(20, 12)
     else:
-        V, F = mg.grid(16, jitter=0.2, height=mg.bumps(0.1, 1.5))
+        V, F = build.grid(16, jitter=0.2, height=build.bumps(0.1, 1.5))
     rng = np.random.default_rng(5)
     skin = rng.dirichlet(np.full(4, 0.5), size=len(V))
     skin[::9] = np.eye(4)[rng.integers(0, 4, len(skin[::9]))]  # some rigidly bound vertices
     colour = rng.uniform(-2.0, 3.0, (len(V), 3))  # not normalised: only interpolated
     r = core.simplify(V, F, ratio=0.15, vertex_attributes={"skin": skin, "colour": colour},
                       normalize_attributes=("skin",))
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     w = r.vertex_attributes["skin"]
     assert w.shape == (len(r.vertices), 4)
     assert np.all(w >= 0)
@@ -319,7 +320,7 @@ def test_skin_weights_stay_convex_and_sum_to_one(mesh):
 
 
 def test_vertex_attributes_of_untouched_vertices_are_unchanged():
-    V, F = mg.grid(8)
+    V, F = build.grid(8)
     rng = np.random.default_rng(0)
     attr = rng.normal(size=(len(V), 2))
     r = core.simplify(V, F, ratio=1.0, vertex_attributes={"a": attr})
@@ -332,7 +333,7 @@ def test_vertex_attributes_of_untouched_vertices_are_unchanged():
 def test_vertex_attribute_follows_a_linear_field():
     # Data linear in x on a flat sheet: interpolation along each collapsed edge by the
     # new position's projection keeps it close to x at the new position.
-    V, F = mg.grid(16, jitter=0.2)
+    V, F = build.grid(16, jitter=0.2)
     r = core.simplify(V, F, ratio=0.2, vertex_attributes={"x": V[:, 0]})
     err = np.abs(r.vertex_attributes["x"][:, 0] - r.vertices[:, 0])
     cell = 1.0 / 16
@@ -350,11 +351,11 @@ def test_skin_line_weights():
 
 def _loop_run(ratio, **kw):
     n = 24
-    V, F = mg.grid(n)
-    loop = mg.square_loop_edges(n, 6, 18)
+    V, F = build.grid(n)
+    loop = build.square_loop_edges(n, 6, 18)
     r = core.simplify(V, F, ratio=ratio, **kw)
-    edges_out, _ = mg.edge_table(r.faces)
-    d = mg.distance_to_polyline(_edge_samples(V, loop), r.vertices, edges_out)
+    edges_out, _ = check.edge_table(r.faces)
+    d = check.distance_to_polyline(_edge_samples(V, loop), r.vertices, edges_out)
     return V, F, loop, r, d.max()
 
 
@@ -362,7 +363,7 @@ def _loop_run(ratio, **kw):
 def test_marked_feature_loop_survives_where_plain_simplification_loses_it(ratio):
     V, F, loop, plain, lost = _loop_run(ratio)
     _, _, _, kept_r, kept = _loop_run(ratio, feature_edges=loop, feature_weight=100.0)
-    mg.assert_valid_result(kept_r, V, F)
+    check.assert_valid_result(kept_r, V, F)
     assert kept_r.stats.stop_reason == "target_reached"
     # Hausdorff distance from the loop to the output's edges, in units of the sheet (1).
     assert kept < 1e-3, kept  # measured <= 1e-12
@@ -379,13 +380,13 @@ def test_feature_weight_zero_is_no_feature():
 
 
 def test_carried_data_is_deterministic():
-    V, F, UV = mg.uv_sphere(20, 12)
+    V, F, UV = build.uv_sphere(20, 12)
     rng = np.random.default_rng(1)
     skin = rng.dirichlet(np.ones(3), size=len(V))
     col = rng.uniform(size=(len(F), 3, 4))
     runs = [core.simplify(V, F, ratio=0.2, seed=3, vertex_attributes={"skin": skin}, normalize_attributes=("skin",),
                           corner_attributes={"uv": UV, "col": col}, uv_attributes=("uv",),
-                          feature_edges=mg.seam_edges(F, UV), feature_weight=5.0) for _ in range(2)]
+                          feature_edges=check.seam_edges(F, UV), feature_weight=5.0) for _ in range(2)]
     a, b = runs
     assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
     assert a.vertex_attributes["skin"].tobytes() == b.vertex_attributes["skin"].tobytes()
@@ -423,7 +424,7 @@ def _radial_gap(P, F, directions, radius_of):
 def test_shape_keys_in_the_error_keep_the_lod_as_close_at_full_value_as_at_rest():
     """Issue 19: a LOD with shape keys at full value should stay as close to the source at
     full value as at rest. Judged along 3,000 rays against the analytic keyed sphere."""
-    V, F, _ = mg.uv_sphere(96, 48)
+    V, F, _ = build.uv_sphere(96, 48)
     d1, radius1 = _bump_key(V, np.array([1.0, 0, 0]), 0.35, 0.08)
     d2, radius2 = _bump_key(V, np.array([0, 0.6, 0.8]), -0.25, 0.02)
     keys = {"k1": d1, "k2": d2}
@@ -449,7 +450,7 @@ def test_shape_keys_in_the_error_keep_the_lod_as_close_at_full_value_as_at_rest(
 
 
 def test_shape_attributes_must_be_offsets():
-    V, F, _ = mg.uv_sphere(12, 6)
+    V, F, _ = build.uv_sphere(12, 6)
     with pytest.raises(ValueError, match="shape_attributes"):
         core.simplify(V, F, ratio=0.5, vertex_attributes={"w": np.zeros((len(V), 2))}, shape_attributes=("w",))
     with pytest.raises(ValueError, match="shape_attributes"):

@@ -5,9 +5,10 @@ import numpy as np
 import pytest
 
 import core
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 
-V, F = mg.grid(6, jitter=0.2)
+V, F = build.grid(6, jitter=0.2)
 N, M = len(V), len(F)
 
 
@@ -180,7 +181,7 @@ def test_chain_targets_must_not_increase():
 def test_valid_call_with_the_same_arguments_works():
     # The fixture mesh itself is fine: the errors above come from the one bad argument.
     r = core.simplify(V, F, ratio=0.5)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
 
 
 # ---------------------------------------------------------------- progress / cancel
@@ -193,21 +194,21 @@ def test_progress_returning_false_cancels():
         calls.append(frac)
         return len(calls) < 2
 
-    Vs, Fs, _ = mg.uv_sphere(24, 16)
+    Vs, Fs, _ = build.uv_sphere(24, 16)
     with pytest.raises(core.SimplifyCancelled):
         core.simplify(Vs, Fs, ratio=0.1, progress=stop_after_two)
     assert len(calls) == 2  # cancelled right after the callback said so
 
 
 def test_progress_returning_none_or_true_does_not_cancel():
-    Vs, Fs, _ = mg.uv_sphere(16, 10)
+    Vs, Fs, _ = build.uv_sphere(16, 10)
     r = core.simplify(Vs, Fs, ratio=0.2, progress=lambda f: None)
     assert r.stats.stop_reason == "target_reached"
 
 
 def test_progress_fractions_increase_within_unit_interval():
     calls = []
-    Vs, Fs, _ = mg.uv_sphere(24, 16)
+    Vs, Fs, _ = build.uv_sphere(24, 16)
     r = core.simplify(Vs, Fs, ratio=0.1, progress=lambda f: calls.append(f) or True)
     assert r.stats.stop_reason == "target_reached"
     f = np.array(calls)

@@ -7,7 +7,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
 import core
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 
 # No shrinking: a failure is reported with the example that found it, and a failing run
 # stays as fast as a passing one.
@@ -24,14 +25,14 @@ def meshes(draw):
         nx, ny = draw(st.integers(3, 14)), draw(st.integers(3, 14))
         jitter = draw(st.sampled_from([0.0, 0.1, 0.25]))
         size = (draw(st.floats(0.1, 50.0)), draw(st.floats(0.1, 50.0)))
-        height = mg.bumps(0.1 * min(size), 1.5) if kind == "bumpy" else None
-        V, F = mg.grid(nx, ny, size=size, jitter=jitter, seed=draw(st.integers(0, 99)), height=height,
+        height = build.bumps(0.1 * min(size), 1.5) if kind == "bumpy" else None
+        V, F = build.grid(nx, ny, size=size, jitter=jitter, seed=draw(st.integers(0, 99)), height=height,
                        alternate=draw(st.booleans()))
         return kind, V, F, False, 1
     if kind == "sphere":
-        V, F, _ = mg.uv_sphere(draw(st.integers(6, 16)), draw(st.integers(4, 10)), radius=draw(st.floats(0.01, 100.0)))
+        V, F, _ = build.uv_sphere(draw(st.integers(6, 16)), draw(st.integers(4, 10)), radius=draw(st.floats(0.01, 100.0)))
         return kind, V, F, True, 2
-    V, F = mg.torus(draw(st.integers(8, 18)), draw(st.integers(5, 9)))
+    V, F = build.torus(draw(st.integers(8, 18)), draw(st.integers(5, 9)))
     return kind, V, F, True, 0
 
 
@@ -49,22 +50,22 @@ def test_random_meshes_stay_valid_manifold_and_hit_the_target(mesh, ratio, w, se
         r = core.simplify(V, F, target_faces=target, line_weight=w, seed=seed)
     else:
         r = core.simplify(V, F, ratio=ratio, line_weight=w, seed=seed)
-    mg.assert_valid_result(r, V, F)
-    mg.assert_target_respected(r, target)
+    check.assert_valid_result(r, V, F)
+    check.assert_target_respected(r, target)
     assert r.stats.target_faces == target
     if closed:
-        assert len(mg.boundary_edges(r.faces)) == 0, "closed input got a boundary"
-        assert mg.euler_characteristic(r.faces) == euler
+        assert len(check.boundary_edges(r.faces)) == 0, "closed input got a boundary"
+        assert check.euler_characteristic(r.faces) == euler
     else:
-        assert mg.boundary_loops(r.faces) == 1
-        assert mg.euler_characteristic(r.faces) == euler
+        assert check.boundary_loops(r.faces) == 1
+        assert check.euler_characteristic(r.faces) == euler
     # No flipped faces: each output face still faces the way its input face did. Not on
     # the torus: taken to a few dozen faces its surviving face labels drift across the
     # tube (measured: output normals agree with the torus's true normals while some
     # disagree with their origin face's), so the origin is no reference there.
     if kind != "torus":
-        n_out = mg.face_normals(r.vertices, r.faces)
-        n_in = mg.face_normals(V, F)[r.face_origin]
+        n_out = check.face_normals(r.vertices, r.faces)
+        n_in = check.face_normals(V, F)[r.face_origin]
         assert np.all(np.einsum("ij,ij->i", n_out, n_in) > 0), "an output face turned over"
 
 
@@ -74,8 +75,8 @@ def test_locked_vertices_keep_their_exact_position(mesh, ratio, frac, lock_seed)
     kind, V, F, closed, _ = mesh
     locked = np.random.default_rng(lock_seed).random(len(V)) < frac
     r = core.simplify(V, F, ratio=ratio, locked=locked)
-    mg.assert_valid_result(r, V, F)
-    mg.assert_target_respected(r, _target(F, ratio))
+    check.assert_valid_result(r, V, F)
+    check.assert_target_respected(r, _target(F, ratio))
     vo = r.vertex_origin
     # Every locked vertex that is used by a face survives ...
     used = np.zeros(len(V), dtype=bool)
@@ -104,10 +105,10 @@ def test_same_input_and_seed_give_bit_identical_output(mesh, ratio, w, seed):
 def test_face_origin_carries_materials_and_geometry():
     # Materials by octant on a sphere: the output face's material (via face_origin) must be
     # that of the input face it lies on, so its centroid stays near that octant.
-    V, F, _ = mg.uv_sphere(24, 16)
+    V, F, _ = build.uv_sphere(24, 16)
     material = (V[F].mean(1) > 0).astype(int) @ np.array([1, 2, 4])
     r = core.simplify(V, F, ratio=0.3)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     out_material = material[r.face_origin]
     assert out_material.min() >= 0 and out_material.max() <= 7
     # Output and origin faces overlap: their centroids are close (within an output edge).
@@ -119,7 +120,7 @@ def test_face_origin_carries_materials_and_geometry():
 
 def test_reasonable_targets_are_reached():
     # On meshes with nothing to protect the engine must not give up early.
-    for V, F in [mg.uv_sphere(24, 16)[:2], mg.torus(24, 10), mg.grid(20, jitter=0.2), mg.tube()]:
+    for V, F in [build.uv_sphere(24, 16)[:2], build.torus(24, 10), build.grid(20, jitter=0.2), build.tube()]:
         for ratio in (0.5, 0.2, 0.1):
             r = core.simplify(V, F, ratio=ratio)
             assert r.stats.stop_reason == "target_reached", (len(F), ratio, r.stats.as_dict())
@@ -127,22 +128,22 @@ def test_reasonable_targets_are_reached():
 
 
 def test_ratio_one_returns_the_input_mesh():
-    V, F = mg.grid(6, jitter=0.2)
+    V, F = build.grid(6, jitter=0.2)
     r = core.simplify(V, F, ratio=1.0)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert np.array_equal(r.face_origin, np.arange(len(F)))
     assert np.array_equal(r.vertices[r.faces], V[F])
 
 
 def test_simplify_chain_levels_are_progressive_coarsenings():
-    V, F, _ = mg.uv_sphere(20, 12)
+    V, F, _ = build.uv_sphere(20, 12)
     targets = [200, 100, 40]
     levels = core.simplify_chain(V, F, targets=targets)
     assert [lv.stats.target_faces for lv in levels] == targets
     prev = set(range(len(F)))
     for lv, t in zip(levels, targets):
-        mg.assert_valid_result(lv, V, F)
-        mg.assert_target_respected(lv, t)
+        check.assert_valid_result(lv, V, F)
+        check.assert_target_respected(lv, t)
         now = set(lv.face_origin.tolist())
         assert now <= prev, "a coarser level has a face the finer one had lost"
         prev = now
@@ -165,7 +166,7 @@ def test_mean_quality_rises_with_line_weight_on_a_curved_surface(ratio):
     """
     q = np.zeros((6, len(SWEEP)))
     for s in range(6):
-        V, F = mg.grid(40, jitter=0.2, seed=s, height=mg.bumps(0.1, 1.5))
+        V, F = build.grid(40, jitter=0.2, seed=s, height=build.bumps(0.1, 1.5))
         for i, w in enumerate(SWEEP):
             r = core.simplify(V, F, ratio=ratio, line_weight=w)
             q[s, i] = core.quality_summary(r.vertices, r.faces)["mean_quality"]
@@ -178,12 +179,12 @@ def test_mean_quality_rises_with_line_weight_on_a_curved_surface(ratio):
 def test_flat_grid_to_5_percent_is_well_shaped_with_small_line_weight(jitter, alternate):
     """Fig. 3 / Lemma 4.1: on a flat, finely triangulated grid plain QEM (w = 0) has no
     preferred position (and must still not fail); w = 1e-4 spreads vertices evenly."""
-    V, F = mg.grid(60, jitter=jitter, alternate=alternate)
+    V, F = build.grid(60, jitter=jitter, alternate=alternate)
     plain = core.simplify(V, F, ratio=0.05, line_weight=0.0)
     lq = core.simplify(V, F, ratio=0.05, line_weight=1e-4)
     for r in (plain, lq):
-        mg.assert_valid_result(r, V, F)
-        mg.assert_target_respected(r, _target(F, 0.05))
+        check.assert_valid_result(r, V, F)
+        check.assert_target_respected(r, _target(F, 0.05))
         assert r.stats.stop_reason == "target_reached"
         # A failed or wild solve would leave the plane.
         assert np.abs(r.vertices[:, 2]).max() < 1e-12
@@ -198,7 +199,7 @@ def test_flat_grid_to_5_percent_is_well_shaped_with_small_line_weight(jitter, al
 
 
 def test_constant_line_weights_equal_the_scalar_line_weight():
-    V, F = mg.grid(20, jitter=0.2, height=mg.bumps(0.1, 1.5))
+    V, F = build.grid(20, jitter=0.2, height=build.bumps(0.1, 1.5))
     a = core.simplify(V, F, ratio=0.1, line_weight=0.01)
     b = core.simplify(V, F, ratio=0.1, line_weights=np.full(len(V), 0.01))
     assert a.faces.tobytes() == b.faces.tobytes() and a.vertices.tobytes() == b.vertices.tobytes()
@@ -209,12 +210,12 @@ def test_weighted_half_keeps_more_vertices(control):
     # Paper Sec. 4.4: a higher weight (line quadric, or the Sec. 4.4.1 importance scaling)
     # makes collapses there dearer, so that region keeps more of its vertices - also
     # where it is flat.
-    V, F = mg.grid(30)
+    V, F = build.grid(30)
     left = V[:, 0] < 0.5
     value = {"quadric_scale": 11.0, "line_weights": 0.1}[control]
     weights = np.where(left, value, 1.0 if control == "quadric_scale" else 1e-3)
     r = core.simplify(V, F, ratio=0.1, **{control: weights})
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     n_left = np.count_nonzero(r.vertices[:, 0] < 0.5)
     n_right = np.count_nonzero(r.vertices[:, 0] > 0.5)
     assert n_left > 2 * n_right, (n_left, n_right)  # measured 75 / 27 and 95 / 5
@@ -239,7 +240,7 @@ def test_later_selection_rounds_take_only_the_cheap_part_of_the_share(monkeypatc
     LATER_ROUND_SHARE of the pass's share (or below ORDER_FREE_COST): their neighbours
     were blocked, not beaten, so anything costlier would jump the greedy order."""
     from core import engine, selection
-    V, F = mg.grid(40, 40, size=(1.0, 1.0), jitter=0.2, seed=3, height=mg.bumps(0.15, 2.0))
+    V, F = build.grid(40, 40, size=(1.0, 1.0), jitter=0.2, seed=3, height=build.bumps(0.15, 2.0))
     target = _target(F, 0.1)
     rounds = []  # per selection round: (round in its pass, later-round limit, pass limit, costs taken)
     choose, independent_set = engine._choose, selection.independent_set

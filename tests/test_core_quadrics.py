@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from core import quadrics, topology, vertex_quadrics
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 
 
 def _unit(rng, k):
@@ -105,7 +106,7 @@ def test_minimize_never_fails_on_singular_systems():
 
 
 def _flat_grid_quadrics(w, boundary_weight=1.0, n=8, sigma=0.0):
-    V, F = mg.grid(n, jitter=0.2, seed=7)
+    V, F = build.grid(n, jitter=0.2, seed=7)
     V = V - 0.5  # near the engine's normalised frame (centred, unit-ish size)
     conn = topology.build(F, len(V))
     Q, area = vertex_quadrics.build(V, F, conn, np.full(len(V), w), None, boundary_weight, None, None, sigma)
@@ -128,7 +129,7 @@ def test_vertex_quadric_is_well_conditioned_on_flat_input_with_line_weight(w):
     # Interior flat vertex: A = a n n^T + w a (I - n n^T), condition exactly 1 / w.
     assert np.allclose(cond, 1.0 / w, rtol=1e-6)
     # Edge sums (what the engine minimises) are just as well conditioned.
-    e, _ = mg.edge_table(F)
+    e, _ = check.edge_table(F)
     assert np.all(np.linalg.cond(_A(Q[e[:, 0]] + Q[e[:, 1]])) < 1e8)
 
 
@@ -140,7 +141,7 @@ def test_vertex_quadric_without_line_weight_is_singular_on_flat_input():
 
 def test_vertex_areas_are_a_third_of_incident_faces():
     V, F, Q, area = _flat_grid_quadrics(1e-3)
-    fa = 0.5 * np.linalg.norm(mg.face_normals(V, F), axis=1)
+    fa = 0.5 * np.linalg.norm(check.face_normals(V, F), axis=1)
     expected = np.bincount(F.ravel(), weights=np.repeat(fa / 3, 3), minlength=len(V))
     np.testing.assert_allclose(area, expected, rtol=1e-12)
     assert area.sum() == pytest.approx(1.0, rel=1e-12)  # the unit square

@@ -8,7 +8,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import core
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 from core.guards import RULES, SLIVER_QUALITY, relaxation_ladder
 
 
@@ -18,7 +19,7 @@ def _fan_uv(V, F, UV):
 
 def _two_spheres_on_one_vertex(n_lon=20, n_lat=10):
     """Two UV spheres touching at a pole that both share: a pinch vertex."""
-    V, F, _ = mg.uv_sphere(n_lon, n_lat)
+    V, F, _ = build.uv_sphere(n_lon, n_lat)
     V2 = V + [0.0, 0.0, 2.0]  # its south pole (last vertex) lands on the first's north pole
     F2 = F + len(V)
     F2[F2 == len(V) + len(V2) - 1] = 0
@@ -27,7 +28,7 @@ def _two_spheres_on_one_vertex(n_lon=20, n_lat=10):
 
 def _three_sheets_on_one_edge(n=8):
     """Three curved strips sharing their middle edge row (each edge there has 3 faces)."""
-    V, F = mg.grid(n, height=mg.bumps(0.1))
+    V, F = build.grid(n, height=build.bumps(0.1))
     row = n // 2
     spine = row * (n + 1) + np.arange(n + 1)
     # A third sheet standing on the spine, curved too.
@@ -71,19 +72,19 @@ def test_low_poly_spheres_reach_low_targets(n_lon, n_lat, ratio, uv):
     """Blender's UV sphere gives each pole triangle its own UV: every pole edge is a seam
     and every pole-ring vertex a seam end. Kept, those froze the run at 130 of 36
     triangles; the seam rule now relaxes once nothing else can go."""
-    V, F, UV = mg.uv_sphere(n_lon, n_lat, pole_uv="fan")
+    V, F, UV = build.uv_sphere(n_lon, n_lat, pole_uv="fan")
     target = max(int(round(ratio * len(F))), 4)
     r = core.simplify(V, F, target_faces=target, **(_fan_uv(V, F, UV) if uv else {}))
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached"
     assert target - 1 <= len(r.faces) <= target
-    assert len(mg.boundary_edges(r.faces)) == 0 and mg.euler_characteristic(r.faces) == 2
+    assert len(check.boundary_edges(r.faces)) == 0 and check.euler_characteristic(r.faces) == 2
     if uv:
         assert r.corner_attributes["uv"].shape == (len(r.faces), 3, 2)
 
 
 def test_relaxation_is_only_as_far_as_needed():
-    V, F, UV = mg.uv_sphere(40, 20, pole_uv="fan")
+    V, F, UV = build.uv_sphere(40, 20, pole_uv="fan")
     easy = core.simplify(V, F, ratio=0.5, **_fan_uv(V, F, UV))
     hard = core.simplify(V, F, target_faces=76, **_fan_uv(V, F, UV))
     assert easy.stats.relaxation_step == 0 and hard.stats.relaxation_step > 0
@@ -99,20 +100,20 @@ def test_relaxation_is_only_as_far_as_needed():
        seed=st.integers(0, 100))
 def test_every_target_a_closed_sphere_allows_is_reached(n_lon, n_lat, ratio, pole_uv, uv, w, seed):
     """A closed genus-0 surface can go down to a tetrahedron (4 faces)."""
-    V, F, UV = mg.uv_sphere(n_lon, n_lat, pole_uv=pole_uv)
+    V, F, UV = build.uv_sphere(n_lon, n_lat, pole_uv=pole_uv)
     target = max(int(round(ratio * len(F))), 4)
     r = core.simplify(V, F, target_faces=target, line_weight=w, seed=seed, **(_fan_uv(V, F, UV) if uv else {}))
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached", (len(r.faces), target, r.stats)
-    mg.assert_target_respected(r, target)
-    assert mg.euler_characteristic(r.faces) == 2
+    check.assert_target_respected(r, target)
+    assert check.euler_characteristic(r.faces) == 2
 
 
 def test_pinch_vertex_region_reaches_its_target():
     V, F = _two_spheres_on_one_vertex()
     target = int(0.4 * len(F))
     r = core.simplify(V, F, target_faces=target)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached" and target - 1 <= len(r.faces) <= target
     # The pinch itself is kept in place: it is still shared by both spheres.
     pinch = np.flatnonzero(r.vertex_origin == 0)
@@ -123,7 +124,7 @@ def test_three_sheets_on_one_edge_simplify_around_it():
     V, F = _three_sheets_on_one_edge()
     target = int(0.25 * len(F))
     r = core.simplify(V, F, target_faces=target)
-    mg.assert_valid_result(r, V, F, manifold=False)
+    check.assert_valid_result(r, V, F, manifold=False)
     assert r.stats.stop_reason == "target_reached" and target - 1 <= len(r.faces) <= target
     # The shared edges are kept in place (every spine vertex survives, unmoved) while the
     # sheets around them are simplified.
@@ -137,13 +138,13 @@ def test_three_sheets_on_one_edge_simplify_around_it():
 
 def test_topology_limit_is_a_distinct_stop():
     # A closed cube can lose faces down to a tetrahedron and no further.
-    V, F, _ = mg.cube(3)
+    V, F, _ = build.cube(3)
     r = core.simplify(V, F, target_faces=2)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert len(r.faces) == 4 and r.stats.stop_reason == core.STOP_TOPOLOGY
     assert "topology" in core.STOP_REASON_TEXT[r.stats.stop_reason]
     # Two separate closed parts keep four faces each.
-    V2, F2 = mg.components([(V, F), (V + 3.0, F)])
+    V2, F2 = build.components([(V, F), (V + 3.0, F)])
     r = core.simplify(V2, F2, target_faces=4)
     assert len(r.faces) == 8 and r.stats.stop_reason == core.STOP_TOPOLOGY
 
@@ -153,10 +154,10 @@ def test_topology_limit_is_a_distinct_stop():
 
 def _scene_of_parts():
     """A big sphere plus six small closed ones of growing size (bolts, debris)."""
-    big = mg.uv_sphere(24, 12)[:2]
-    parts = [big] + [(mg.uv_sphere(8, 6, radius=0.05 * (i + 1))[0] + [3.0 + i, 0, 0], mg.uv_sphere(8, 6)[1])
+    big = build.uv_sphere(24, 12)[:2]
+    parts = [big] + [(build.uv_sphere(8, 6, radius=0.05 * (i + 1))[0] + [3.0 + i, 0, 0], build.uv_sphere(8, 6)[1])
                      for i in range(6)]
-    return mg.components(parts), [len(p[1]) for p in parts]
+    return build.components(parts), [len(p[1]) for p in parts]
 
 
 def test_small_parts_stay_by_default_and_go_smallest_first_when_allowed():
@@ -164,10 +165,10 @@ def test_small_parts_stay_by_default_and_go_smallest_first_when_allowed():
     target = 20  # below the 7 x 4 faces that seven closed parts keep at least
     kept = core.simplify(V, F, target_faces=target)
     assert kept.stats.stop_reason == core.STOP_TOPOLOGY and len(kept.faces) > target
-    assert mg.count_components(len(kept.vertices), mg.edge_table(kept.faces)[0]) == 7
+    assert check.count_components(len(kept.vertices), check.edge_table(kept.faces)[0]) == 7
 
     r = core.simplify(V, F, target_faces=target, remove_small_components=True)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached" and len(r.faces) <= target
     # The big sphere is never removed, and the removed parts are the smallest ones.
     first_small = sizes[0]
@@ -182,7 +183,7 @@ def test_small_parts_stay_by_default_and_go_smallest_first_when_allowed():
 def test_a_part_with_a_locked_vertex_is_never_removed():
     (V, F), sizes = _scene_of_parts()
     locked = np.zeros(len(V), dtype=bool)
-    smallest_first_vertex = len(mg.uv_sphere(24, 12)[0])
+    smallest_first_vertex = len(build.uv_sphere(24, 12)[0])
     locked[smallest_first_vertex] = True
     r = core.simplify(V, F, target_faces=20, remove_small_components=True, locked=locked)
     assert smallest_first_vertex in r.vertex_origin
@@ -193,7 +194,7 @@ def test_a_part_with_a_locked_vertex_is_never_removed():
 
 def _bevel_box(k=8):
     """A cube with one face bulged into a gentle dome: 12 creases, 8 corners."""
-    V, F, _ = mg.cube(k)
+    V, F, _ = build.cube(k)
     top = V[:, 2] > 0.999
     V = V.copy()
     V[top, 2] += 0.15 * (1 - V[top, 0] ** 2) * (1 - V[top, 1] ** 2)
@@ -206,7 +207,7 @@ def test_feature_angle_keeps_corners_exactly(ratio):
     corners = np.flatnonzero(np.all(np.isclose(np.abs(V), 1.0), axis=1))
     assert len(corners) == 8
     r = core.simplify(V, F, ratio=ratio, feature_angle=45)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached"
     rows = np.flatnonzero(np.isin(r.vertex_origin, corners))
     assert len(rows) == 8
@@ -218,14 +219,14 @@ def test_feature_corners_give_way_only_to_a_target_that_needs_it():
     # relaxes (last of the ladder) and the box becomes a tetrahedron.
     V, F = _bevel_box(4)
     r = core.simplify(V, F, target_faces=4, feature_angle=45)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert len(r.faces) == 4 and r.stats.stop_reason == "target_reached"
     assert not relaxation_ladder()[r.stats.relaxation_step].corners_kept
 
 
 def test_flat_logo_keeps_its_outline_corners_exactly():
     """An L-shaped flat logo: its six outline corners are boundary turns, not creases."""
-    V, F = mg.grid(40, jitter=0.2, seed=1)
+    V, F = build.grid(40, jitter=0.2, seed=1)
     centre = V[F].mean(axis=1)
     F = F[(centre[:, 0] < 0.4) | (centre[:, 1] < 0.3)]
     corners = np.array([[0, 0], [1, 0], [1, 0.3], [0, 1]])  # grid border corners: never jittered
@@ -268,7 +269,7 @@ def test_star_logo_keeps_tips_and_inner_corners_with_the_defaults(ratio):
     V, F, corners = _star()
     assert len(corners) == 10
     r = core.simplify(V, F, ratio=ratio)
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached"
     def kept_exactly(result):
         return [bool(np.any((result.vertex_origin == i) & np.all(result.vertices == V[i], axis=1)))
@@ -286,8 +287,8 @@ def test_feature_angle_keeps_creases_closer_than_without():
 
     def crease_error(r):
         # Distance of the input's crease vertices to the output's edges.
-        E = mg.edge_table(r.faces)[0]
-        return mg.distance_to_polyline(crease_points, r.vertices, E).max()
+        E = check.edge_table(r.faces)[0]
+        return check.distance_to_polyline(crease_points, r.vertices, E).max()
 
     off = core.simplify(V, F, ratio=0.05, line_weight=0.05, feature_angle=None)
     on = core.simplify(V, F, ratio=0.05, line_weight=0.05, feature_angle=45)
@@ -312,7 +313,7 @@ def test_min_quality_trades_slivers_for_shape():
     ({"feature_angle": float("nan")}, "feature_angle"),
 ])
 def test_bad_new_options_are_named(kw, message):
-    V, F, _ = mg.cube(2)
+    V, F, _ = build.cube(2)
     with pytest.raises(ValueError, match=message):
         core.simplify(V, F, ratio=0.5, **kw)
 

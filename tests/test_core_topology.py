@@ -7,7 +7,8 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
 import core
-import meshgen as mg
+import mesh_builders as build
+import mesh_checks as check
 from core import engine, topology
 
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True,
@@ -61,16 +62,16 @@ def meshes(draw):
     """(V, F, locked): open, closed, several components, a non-manifold fin."""
     kind = draw(st.sampled_from(["grid", "sphere", "torus", "components", "fin"]))
     if kind == "grid":
-        V, F = mg.grid(draw(st.integers(3, 12)), draw(st.integers(3, 12)), jitter=0.2, seed=draw(st.integers(0, 9)),
-                       height=mg.bumps(0.1, 2.0))
+        V, F = build.grid(draw(st.integers(3, 12)), draw(st.integers(3, 12)), jitter=0.2, seed=draw(st.integers(0, 9)),
+                       height=build.bumps(0.1, 2.0))
     elif kind == "sphere":
-        V, F, _ = mg.uv_sphere(draw(st.integers(6, 14)), draw(st.integers(4, 9)))
+        V, F, _ = build.uv_sphere(draw(st.integers(6, 14)), draw(st.integers(4, 9)))
     elif kind == "torus":
-        V, F = mg.torus(draw(st.integers(8, 16)), draw(st.integers(5, 8)))
+        V, F = build.torus(draw(st.integers(8, 16)), draw(st.integers(5, 8)))
     elif kind == "components":
-        V, F = mg.components([mg.torus(10, 6), mg.grid(5)[:2], mg.cube(3)[:2]])
+        V, F = build.components([build.torus(10, 6), build.grid(5)[:2], build.cube(3)[:2]])
     else:
-        V, F = mg.with_fin(8, 3)
+        V, F = build.with_fin(8, 3)
     lock_share = draw(st.sampled_from([0.0, 0.0, 0.1, 0.3]))
     locked = np.random.default_rng(draw(st.integers(0, 99))).random(len(V)) < lock_share
     return V, F, locked
@@ -83,21 +84,21 @@ def test_carried_connectivity_equals_a_fresh_build_after_every_pass(mesh, ratio,
     with pytest.MonkeyPatch.context() as monkeypatch:
         checked = _checking_every_pass(monkeypatch)
         r = core.simplify(V, F, ratio=ratio, seed=seed, locked=locked)
-    mg.assert_valid_result(r, V, F, manifold=False)
+    check.assert_valid_result(r, V, F, manifold=False)
     assert checked, "no pass applied a collapse"
 
 
 def test_carried_connectivity_on_a_mesh_with_uv_seams(monkeypatch):
-    V, F, UV = mg.uv_sphere(16, 10)
+    V, F, UV = build.uv_sphere(16, 10)
     checked = _checking_every_pass(monkeypatch)
     r = core.simplify(V, F, ratio=0.1, corner_attributes={"uv": UV}, uv_attributes=("uv",))
-    mg.assert_valid_result(r, V, F)
+    check.assert_valid_result(r, V, F)
     assert len(checked) > 3
 
 
 def test_dependent_collapses_are_refused_not_merged_wrongly():
     """Two collapses sharing a face cannot be carried (the engine then rebuilds)."""
-    V, F = mg.grid(4, 4)
+    V, F = build.grid(4, 4)
     conn = topology.build(F, len(V))
     # Two edges of the same triangle, both collapsed at once.
     f = F[5]
@@ -110,18 +111,18 @@ def test_dependent_collapses_are_refused_not_merged_wrongly():
 
 
 def test_the_engine_rebuilds_when_collapses_cannot_be_carried(monkeypatch):
-    V, F = mg.grid(12, 12, jitter=0.2, seed=1, height=mg.bumps(0.1, 2.0))
+    V, F = build.grid(12, 12, jitter=0.2, seed=1, height=build.bumps(0.1, 2.0))
     carried = core.simplify(V, F, ratio=0.2)
     monkeypatch.setattr(topology, "after_collapses", lambda *args: None)
     rebuilt = core.simplify(V, F, ratio=0.2)
-    mg.assert_valid_result(rebuilt, V, F)
-    mg.assert_target_respected(rebuilt, carried.stats.target_faces)
+    check.assert_valid_result(rebuilt, V, F)
+    check.assert_target_respected(rebuilt, carried.stats.target_faces)
 
 
 def _fans_by_walking(F, n):
     """Reference fan count: per vertex, union the faces that share an edge at it."""
     fans = np.zeros(n, dtype=np.int64)
-    E, count = mg.edge_table(F)
+    E, count = check.edge_table(F)
     interior = {tuple(e) for e in E[count == 2].tolist()}
     for v in range(n):
         around = [f for f in F.tolist() if v in f]
@@ -161,17 +162,17 @@ def test_two_closed_fans_at_a_vertex_are_locked_and_stay_apart():
     # Two spheres sharing one vertex: that vertex has as many edges as faces, like a
     # manifold one, but two fans. Left free, collapses around it made a pair of faces on
     # the same three vertices (found by a fuzz run on cropped real meshes with pinches).
-    V1, F1, _ = mg.uv_sphere(12, 8)
-    V2, F2, _ = mg.uv_sphere(12, 8)
+    V1, F1, _ = build.uv_sphere(12, 8)
+    V2, F2, _ = build.uv_sphere(12, 8)
     pole1 = int(np.argmax(V1[:, 2]))
     pole2 = int(np.argmin(V2[:, 2]))
     V2 = V2 - V2[pole2] + V1[pole1]
-    V, F = mg.components([(V1, F1), (V2, F2)])
+    V, F = build.components([(V1, F1), (V2, F2)])
     F[F == len(V1) + pole2] = pole1
     conn = topology.build(F, len(V))
     fans = topology.fans_per_vertex(conn, F, len(V))
     assert fans[pole1] == 2 and np.all(np.delete(fans, [pole1, len(V1) + pole2]) == 1)
     r = core.simplify(V, F, ratio=0.05)
-    mg.assert_valid_result(r, V, F, manifold=False)
+    check.assert_valid_result(r, V, F, manifold=False)
     assert pole1 in r.vertex_origin
     assert np.array_equal(r.vertices[r.vertex_origin == pole1][0], V[pole1])

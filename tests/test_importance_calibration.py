@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import core
-import meshgen
+import mesh_builders
 from addon import importance
 
 RATIO = 0.1
@@ -40,7 +40,7 @@ def height(x, y):
 
 
 def sheet(curved):
-    V, F = meshgen.grid(120, size=2.0, height=height if curved else None)
+    V, F = mesh_builders.grid(120, size=2.0, height=height if curved else None)
     V[:, :2] -= 1.0
     g = (np.linalg.norm(V[:, :2] - CENTER, axis=1) < RADIUS).astype(np.float64)
     return V, F, g

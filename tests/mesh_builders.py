@@ -1,0 +1,239 @@
+"""Meshes the tests build, in NumPy: procedural inputs with known structure.
+
+Every builder returns float64 vertices (n, 3) and int64 faces (m, 3) with outward
+(counter-clockwise seen from outside) orientation; some also return corner UVs
+(m, 3, 2) indexed like the faces, or per-face material indices. Nothing here imports
+the core, so the tests' checks (mesh_checks.py) judge its output independently.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def grid(nx: int = 10, ny: int = None, size=1.0, jitter: float = 0.0, seed: int = 0,
+         height=None, alternate: bool = True):
+    """A rectangle [0, sx] x [0, sy] of nx x ny quads, two triangles each, normal +z.
+
+    jitter: interior vertices move in-plane by up to ``jitter`` cells in x and in y
+    (<= 0.25 keeps every triangle positively oriented). height: optional f(x, y) -> z for a bumpy sheet.
+    alternate: alternate the quad diagonals (a less biased triangulation).
+    """
+    ny = nx if ny is None else ny
+    sx, sy = (size, size) if np.isscalar(size) else size
+    x, y = np.meshgrid(np.linspace(0.0, sx, nx + 1), np.linspace(0.0, sy, ny + 1), indexing="xy")
+    if jitter:
+        rng = np.random.default_rng(seed)
+        inner = np.zeros_like(x, dtype=bool)
+        inner[1:-1, 1:-1] = True
+        x = x + inner * rng.uniform(-jitter, jitter, x.shape) * (sx / nx)
+        y = y + inner * rng.uniform(-jitter, jitter, y.shape) * (sy / ny)
+    z = np.zeros_like(x) if height is None else height(x, y)
+    v = np.c_[x.ravel(), y.ravel(), z.ravel()]
+    j, i = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
+    a = (j * (nx + 1) + i).ravel()
+    b, c, d = a + 1, a + nx + 2, a + nx + 1  # (i+1, j), (i+1, j+1), (i, j+1)
+    flip = ((i + j) % 2 == 1).ravel() if alternate else np.zeros(a.size, dtype=bool)
+    t1 = np.where(flip[:, None], np.c_[a, b, d], np.c_[a, b, c])
+    t2 = np.where(flip[:, None], np.c_[b, c, d], np.c_[a, c, d])
+    return v, np.concatenate([t1, t2]).astype(np.int64)
+
+
+def bumps(amplitude: float = 0.15, freq: float = 2.0):
+    """A smooth height field for :func:`grid`."""
+    return lambda x, y: amplitude * np.sin(freq * np.pi * x) * np.cos(freq * np.pi * y)
+
+
+def uv_sphere(n_lon: int = 16, n_lat: int = 10, radius: float = 1.0, pole_uv: str = "shared"):
+    """A UV sphere: poles on z, n_lat bands, n_lon segments. Returns (V, F, UV).
+
+    One vertex per position (the seam is in the corner UVs only): the meridian at u = 0
+    has u = 0 on one side and u = 1 on the other. pole_uv: "shared" gives every pole
+    corner the UV (0.5, v_pole), so the only seam is the meridian from pole to pole;
+    "fan" gives each pole triangle its own u (as Blender's UV sphere does), so every
+    pole edge is a seam too.
+    """
+    lon = np.arange(n_lon)
+    rings = np.arange(1, n_lat)
+    theta = np.pi * rings / n_lat
+    phi = 2.0 * np.pi * lon / n_lon
+    ring_v = np.stack([
+        np.outer(np.sin(theta), np.cos(phi)),
+        np.outer(np.sin(theta), np.sin(phi)),
+        np.repeat(np.cos(theta)[:, None], n_lon, axis=1),
+    ], axis=-1).reshape(-1, 3)
+    north, south = 0, 1 + len(ring_v)
+    v = np.concatenate([[[0.0, 0.0, 1.0]], ring_v, [[0.0, 0.0, -1.0]]]) * radius
+
+    def rid(j, i):  # ring j in 1..n_lat-1, longitude i (wraps)
+        return 1 + (j - 1) * n_lon + (i % n_lon)
+
+    def ruv(j, i):  # i in 0..n_lon, not wrapped: u = 1 at the far side of the seam
+        return np.stack([i / n_lon, np.full(len(i), 1.0 - j / n_lat)], axis=-1).astype(np.float64)
+
+    faces, uvs = [], []
+    i = lon
+    pole_u = np.full(n_lon, 0.5) if pole_uv == "shared" else (i + 0.5) / n_lon
+    # North cap: (pole, ring1[i], ring1[i+1]) is counter-clockwise from outside.
+    faces.append(np.c_[np.full(n_lon, north), rid(1, i), rid(1, i + 1)])
+    uvs.append(np.stack([np.c_[pole_u, np.ones(n_lon)], ruv(1, i), ruv(1, i + 1)], axis=1))
+    for j in range(1, n_lat - 1):
+        a, b, c, d = rid(j, i), rid(j + 1, i), rid(j + 1, i + 1), rid(j, i + 1)
+        ua, ub, uc, ud = ruv(j, i), ruv(j + 1, i), ruv(j + 1, i + 1), ruv(j, i + 1)
+        faces += [np.c_[a, b, c], np.c_[a, c, d]]
+        uvs += [np.stack([ua, ub, uc], axis=1), np.stack([ua, uc, ud], axis=1)]
+    j = n_lat - 1
+    faces.append(np.c_[rid(j, i), np.full(n_lon, south), rid(j, i + 1)])
+    uvs.append(np.stack([ruv(j, i), np.c_[pole_u, np.zeros(n_lon)], ruv(j, i + 1)], axis=1))
+    return v, np.concatenate(faces).astype(np.int64), np.concatenate(uvs)
+
+
+def cube(k: int = 4, split: bool = False, half: float = 1.0):
+    """A cube [-half, half]^3, each side a k x k grid of quads with its own UV island.
+
+    Returns (V, F, UV). split=False: one vertex per position, the islands' borders are
+    seams in the corner UVs. split=True: every side has its own vertices (as exported
+    game assets arrive), coincident along the cube's edges, same UVs.
+    """
+    t = np.linspace(-half, half, k + 1)
+    # (normal axis, sign, u axis, v axis) with u x v = outward normal.
+    sides = [(0, 1, 1, 2), (0, -1, 2, 1), (1, 1, 2, 0), (1, -1, 0, 2), (2, 1, 0, 1), (2, -1, 1, 0)]
+    s_idx, r_idx = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="xy")
+    V, F, UV = [], [], []
+    base = 0
+    for n_side, (axis, sign, ua, va) in enumerate(sides):
+        p = np.zeros((k + 1, k + 1, 3))
+        p[..., axis] = sign * half
+        p[..., ua] = t[s_idx]
+        p[..., va] = t[r_idx]
+        col, row = n_side % 3, n_side // 3
+        uv = np.stack([(col + 0.05 + 0.9 * s_idx / k) / 3.0, (row + 0.05 + 0.9 * r_idx / k) / 2.0], axis=-1)
+        jj, ii = np.meshgrid(np.arange(k), np.arange(k), indexing="ij")
+        a = (jj * (k + 1) + ii).ravel()
+        b, c, d = a + 1, a + k + 2, a + k + 1
+        f = np.concatenate([np.c_[a, b, c], np.c_[a, c, d]])
+        flat_uv = uv.reshape(-1, 2)
+        V.append(p.reshape(-1, 3))
+        F.append(f + base)
+        UV.append(flat_uv[f])
+        base += (k + 1) ** 2
+    V, F, UV = np.concatenate(V), np.concatenate(F).astype(np.int64), np.concatenate(UV)
+    if not split:
+        V, F = weld_exact(V, F)
+    return V, F, UV
+
+
+def weld_exact(V, F, return_map=False):
+    """Merge exactly coincident vertices (keeps the first of each position, in order).
+
+    return_map: also return (n,) the welded index of every input vertex.
+    """
+    _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
+    order = np.sort(first)
+    new_of_first = np.empty(len(V), dtype=np.int64)
+    new_of_first[order] = np.arange(len(order))
+    index = new_of_first[first[inverse.reshape(-1)]]
+    return (V[order], index[F], index) if return_map else (V[order], index[F])
+
+
+def torus(nu: int = 16, nv: int = 8, R: float = 1.0, r: float = 0.35):
+    """A closed torus around z (Euler characteristic 0)."""
+    u = 2.0 * np.pi * np.arange(nu) / nu
+    w = 2.0 * np.pi * np.arange(nv) / nv
+    U, W = np.meshgrid(u, w, indexing="ij")
+    v = np.stack([(R + r * np.cos(W)) * np.cos(U), (R + r * np.cos(W)) * np.sin(U), r * np.sin(W)], -1).reshape(-1, 3)
+    I, J = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    a = (I * nv + J).ravel()
+    b = (((I + 1) % nu) * nv + J).ravel()
+    c = (((I + 1) % nu) * nv + (J + 1) % nv).ravel()
+    d = (I * nv + (J + 1) % nv).ravel()
+    return v, np.concatenate([np.c_[a, b, c], np.c_[a, c, d]]).astype(np.int64)
+
+
+def tube(n_around: int = 16, n_height: int = 8, radius: float = 0.5, height: float = 2.0):
+    """An open cylinder along z: two boundary loops."""
+    ang = 2.0 * np.pi * np.arange(n_around) / n_around
+    zs = np.linspace(0.0, height, n_height + 1)
+    A, Z = np.meshgrid(ang, zs, indexing="ij")
+    v = np.stack([radius * np.cos(A), radius * np.sin(A), Z], -1).reshape(-1, 3)
+    I, J = np.meshgrid(np.arange(n_around), np.arange(n_height), indexing="ij")
+    h = n_height + 1
+    a = (I * h + J).ravel()
+    b = (((I + 1) % n_around) * h + J).ravel()
+    c = b + 1
+    d = a + 1
+    return v, np.concatenate([np.c_[a, b, c], np.c_[a, c, d]]).astype(np.int64)
+
+
+def two_material_sheet(n: int = 20, curved: bool = True):
+    """A square sheet, left half material 0, right half material 1, border on x = 0.5.
+
+    curved: a gentle cylindrical bend (z depends on y only) so the border is a curve in
+    3D but still exactly the polyline of grid line x = 0.5. Returns (V, F, material).
+    """
+    height = (lambda x, y: 0.25 * np.sin(np.pi * y)) if curved else None
+    v, f = grid(n, size=1.0, height=height)
+    cx = v[f, 0].mean(axis=1)
+    return v, f, (cx > 0.5).astype(np.int64)
+
+
+def components(meshes):
+    """Concatenate (V, F) pairs into one mesh of disjoint components."""
+    V, F, base = [], [], 0
+    for v, f in meshes:
+        V.append(v)
+        F.append(f + base)
+        base += len(v)
+    return np.concatenate(V), np.concatenate(F).astype(np.int64)
+
+
+def with_fin(n: int = 10, fin_rows: int = 3):
+    """A flat grid with a vertical fin standing on its middle row of vertices: every
+    edge along that row carries three or four faces (non-manifold)."""
+    v, f = grid(n, alternate=False)
+    row = n // 2
+    base_ids = row * (n + 1) + np.arange(n + 1)  # vertices with y = 0.5
+    zs = np.linspace(0.0, 0.5, fin_rows + 1)[1:]
+    X, Z = np.meshgrid(v[base_ids, 0], zs, indexing="xy")
+    fin_v = np.c_[X.ravel(), np.full(X.size, 0.5), Z.ravel()]
+    ids = np.concatenate([base_ids[None, :], len(v) + np.arange(X.size).reshape(fin_rows, n + 1)])
+    a, b = ids[:-1, :-1].ravel(), ids[:-1, 1:].ravel()
+    c, d = ids[1:, 1:].ravel(), ids[1:, :-1].ravel()
+    fin_f = np.concatenate([np.c_[a, b, c], np.c_[a, c, d]])
+    return np.concatenate([v, fin_v]), np.concatenate([f, fin_f]).astype(np.int64)
+
+
+def square_loop_edges(n: int, lo: int, hi: int):
+    """The edges of :func:`grid` (n x n, any diagonals) along the square of grid lines
+    lo..hi in both directions: a closed loop of 4 (hi - lo) edges."""
+    def vid(i, j):
+        return j * (n + 1) + i
+    r = np.arange(lo, hi)
+    bottom = np.c_[vid(r, lo), vid(r + 1, lo)]
+    top = np.c_[vid(r, hi), vid(r + 1, hi)]
+    left = np.c_[vid(lo, r), vid(lo, r + 1)]
+    right = np.c_[vid(hi, r), vid(hi, r + 1)]
+    return np.concatenate([bottom, right, top, left]).astype(np.int64)
+
+
+def icosphere(level: int):
+    """Unit icosphere (all vertices on the sphere) after ``level`` 1->4 subdivisions."""
+    p = (1.0 + 5 ** 0.5) / 2.0
+    v = np.array([[-1, p, 0], [1, p, 0], [-1, -p, 0], [1, -p, 0], [0, -1, p], [0, 1, p],
+                  [0, -1, -p], [0, 1, -p], [p, 0, -1], [p, 0, 1], [-p, 0, -1], [-p, 0, 1]], float)
+    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
+                  [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
+                  [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
+                  [8, 6, 7], [9, 8, 1]], np.int64)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    for _ in range(level):
+        e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+        key = e[:, 0] * len(v) + e[:, 1]
+        uniq, inv = np.unique(key, return_inverse=True)
+        mid = v[uniq // len(v)] + v[uniq % len(v)]
+        mid /= np.linalg.norm(mid, axis=1, keepdims=True)
+        m = len(f)
+        a, b, c = (len(v) + inv.reshape(3, m)).astype(np.int64)  # midpoints of 01, 12, 20
+        f = np.concatenate([np.c_[f[:, 0], a, c], np.c_[a, f[:, 1], b],
+                            np.c_[c, b, f[:, 2]], np.c_[a, b, c]])
+        v = np.concatenate([v, mid])
+    return v, f
