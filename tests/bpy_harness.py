@@ -134,38 +134,6 @@ def build_extension_zip(out_dir, source_dir=REPO_ROOT) -> Path:
     return zips[-1]
 
 
-# The child's prologue. Kept free of test logic: it imports bpy, restores the saved
-# preferences (which enable the installed extension), runs the snippet and writes RESULT.
-_PROLOGUE = r'''
-import json, sys, traceback
-_result_path, _repo_root, _load_prefs = sys.argv[1], sys.argv[2], sys.argv[3] == "1"
-sys.path.append(_repo_root)
-import bpy
-if _load_prefs:
-    if bpy.app.version < (4, 3, 0):
-        # The bpy module of Blender 4.2 crashes (signal 11) in wm.read_userpref(), also with
-        # no add-on installed and no preferences saved: enable the installed extension the
-        # way its saved preferences would (docs/install.md, tested versions).
-        import addon_utils
-        addon_utils.enable(%(ext)r, default_set=True, persistent=True)
-    else:
-        bpy.ops.wm.read_userpref()
-_ns = {"__name__": "__main__", "bpy": bpy, "RESULT": {}, "EXT": %(ext)r,
-       "REPO_ROOT": _repo_root, "EXT_PKG": sys.modules.get(%(ext)r)}
-try:
-    exec(compile(open(sys.argv[4], encoding="utf-8").read(), sys.argv[4], "exec"), _ns)
-    _out = {"ok": True, "result": _ns["RESULT"]}
-    json.dumps(_out)
-except BaseException:
-    _out = {"ok": False, "traceback": traceback.format_exc()}
-with open(_result_path + ".tmp", "w", encoding="utf-8") as _fh:
-    json.dump(_out, _fh)
-import os
-os.replace(_result_path + ".tmp", _result_path)
-sys.exit(0 if _out["ok"] else 1)
-'''
-
-
 def _tail(path: Path, n: int) -> str:
     try:
         return path.read_text(encoding="utf-8", errors="replace")[-n:]
@@ -173,18 +141,29 @@ def _tail(path: Path, n: int) -> str:
         return ""
 
 
-def _run_child(code: str, user_dir: Path, timeout: float, load_prefs: bool) -> dict:
+CHILD_PROGRAM = Path(__file__).resolve().parent / "blender_child.py"
+SCENARIOS_DIR = Path(__file__).resolve().parent / "scenarios"
+
+
+def _run_child(user_dir: Path, timeout: float, load_prefs: bool, *, scenario: Path = None,
+               params: dict = None, snippet: str = None) -> dict:
+    """Run blender_child.py on a scenario file with ``params``, or on a snippet; return
+    what it returned, or raise BlenderError with the child's traceback and output."""
     user_dir = Path(user_dir)
     work = user_dir / "runs"
     work.mkdir(parents=True, exist_ok=True)
     tag = f"{os.getpid()}_{os.urandom(6).hex()}"
     files = {k: work / f"{k}_{tag}{ext}" for k, ext in (
-        ("prologue", ".py"), ("snippet", ".py"), ("result", ".json"), ("stdout", ".txt"), ("stderr", ".txt"))}
-    files["prologue"].write_text(_PROLOGUE % {"ext": EXT_MODULE}, encoding="utf-8")
-    files["snippet"].write_text(textwrap.dedent(code), encoding="utf-8")
+        ("result", ".json"), ("stdout", ".txt"), ("stderr", ".txt"), ("params", ".json"), ("snippet", ".py"))}
+    if scenario is not None:
+        files["params"].write_text(json.dumps(params or {}), encoding="utf-8")
+        job = ["scenario", scenario, files["params"]]
+    else:
+        files["snippet"].write_text(textwrap.dedent(snippet), encoding="utf-8")
+        job = ["snippet", files["snippet"]]
     env = {**os.environ, **isolated_blender_env(user_dir)}
-    cmd = [sys.executable, str(files["prologue"]), str(files["result"]), str(REPO_ROOT),
-           "1" if load_prefs else "0", str(files["snippet"])]
+    cmd = [sys.executable, str(CHILD_PROGRAM), str(files["result"]), str(REPO_ROOT),
+           "1" if load_prefs else "0", *map(str, job)]
     try:
         with open(files["stdout"], "wb") as out, open(files["stderr"], "wb") as err:
             proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env, cwd=str(work))
@@ -241,26 +220,21 @@ def install_extension(zip_path, user_dir, timeout: float = 300) -> dict:
         saved = json.loads(marker.read_text(encoding="utf-8"))
         if saved.get("sha256") == digest:
             return saved["report"]
-    report = _run_child(
-        f"""
-        r = bpy.ops.extensions.package_install_files(
-            filepath={str(Path(zip_path).resolve())!r}, repo={REPO_MODULE!r}, enable_on_install=True)
-        if r != {{"FINISHED"}}:
-            raise RuntimeError("package_install_files returned %r" % (r,))
-        enabled = EXT in {{a.module for a in bpy.context.preferences.addons}}
-        if not enabled:
-            raise RuntimeError(EXT + " was installed but is not enabled")
-        bpy.ops.wm.save_userpref()
-        import sys
-        RESULT["enabled"] = enabled
-        RESULT["installed_dir"] = __import__("os").path.dirname(sys.modules[EXT].__file__)
-        """,
-        user_dir,
-        timeout,
-        load_prefs=False,
-    )
+    report = _run_child(user_dir, timeout, load_prefs=False, scenario=SCENARIOS_DIR / "install_extension.py",
+                        params={"zip_path": str(Path(zip_path).resolve()), "repo": REPO_MODULE})
     marker.write_text(json.dumps({"sha256": digest, "report": report}), encoding="utf-8")
     return report
+
+
+def _ensure_installed(user_dir, install: bool, zip_path) -> None:
+    """With install=True: the extension is installed in ``user_dir`` (built from this
+    checkout unless ``zip_path`` is given, and only if not installed there already)."""
+    user_dir = Path(user_dir)
+    if install:
+        if zip_path is None and not (user_dir / _INSTALL_MARKER).exists():
+            zip_path = build_extension_zip(user_dir / "dist")
+        if zip_path is not None:
+            install_extension(zip_path, user_dir)
 
 
 def run_in_blender(code: str, *, user_dir, timeout: float = 600, install: bool = True,
@@ -273,10 +247,20 @@ def run_in_blender(code: str, *, user_dir, timeout: float = 600, install: bool =
     the extension is not loaded (``import core`` still works).
     Raises BlenderError with the child's stderr tail if the snippet fails.
     """
-    user_dir = Path(user_dir)
-    if install:
-        if zip_path is None and not (user_dir / _INSTALL_MARKER).exists():
-            zip_path = build_extension_zip(user_dir / "dist")
-        if zip_path is not None:
-            install_extension(zip_path, user_dir)
-    return _run_child(code, user_dir, timeout, load_prefs=install)
+    _ensure_installed(user_dir, install, zip_path)
+    return _run_child(user_dir, timeout, load_prefs=install, snippet=code)
+
+
+def run_scenario(name: str, params: dict = None, *, user_dir, timeout: float = 600, install: bool = True,
+                 zip_path=None) -> dict:
+    """Run ``run(**params)`` of tests/scenarios/<name>.py in a fresh bpy child with isolated
+    user dirs; return what it returned (JSON-serialisable, through JSON).
+
+    ``params`` go through JSON too (paths as strings). install, zip_path, timeout and
+    errors: as for run_in_blender.
+    """
+    scenario = SCENARIOS_DIR / f"{name}.py"
+    if not scenario.is_file():
+        raise BlenderError(f"no scenario {scenario}")
+    _ensure_installed(user_dir, install, zip_path)
+    return _run_child(user_dir, timeout, load_prefs=install, scenario=scenario, params=params)

@@ -4,52 +4,12 @@ freeze it at 122 of 36 triangles), what cannot be reached is said in words, and 
 Small Parts removes whole parts only when asked."""
 import pytest
 
-from bpy_harness import run_in_blender
-
-SNIPPET = r'''
-import importlib
-lod = importlib.import_module(EXT + ".addon.lod")
-R = RESULT
-
-def fresh(op, **kw):
-    for o in list(bpy.data.objects):
-        bpy.data.objects.remove(o)
-    op(**kw)
-    return bpy.context.active_object
-
-def run(ob, **kw):
-    rep = lod.generate_lods(bpy.context, ob, lod.LodSettings(levels=1, measure_deviation=False, **kw))
-    level = rep["levels"][0]
-    lod_ob = bpy.data.objects[level["name"]]
-    return {"target": level["target"], "triangles": level["triangles"], "stop": level["stop_reason"],
-            "step": level["relaxation_step"], "removed": level["removed_components"],
-            "warnings": rep["warnings"], "uv_layers": len(lod_ob.data.uv_layers),
-            "polygons": len(lod_ob.data.polygons)}
-
-sphere = fresh(bpy.ops.mesh.primitive_uv_sphere_add, segments=20, ring_count=10)
-R["sphere"] = run(sphere, target_triangles=36)
-sphere = fresh(bpy.ops.mesh.primitive_uv_sphere_add, segments=60, ring_count=40)
-R["big_sphere"] = run(sphere, target_triangles=46)
-monkey = fresh(bpy.ops.mesh.primitive_monkey_add)
-R["monkey"] = run(monkey, target_triangles=9)
-monkey = fresh(bpy.ops.mesh.primitive_monkey_add)
-R["monkey_20"] = run(monkey, target_triangles=20)
-# Six separate cubes: together they cannot go below 6 x 4 triangles without losing parts.
-for o in list(bpy.data.objects):
-    bpy.data.objects.remove(o)
-for i in range(6):
-    bpy.ops.mesh.primitive_cube_add(size=0.2 + 0.1 * i, location=(i, 0, 0))
-bpy.ops.object.select_all(action='SELECT')
-bpy.ops.object.join()
-cubes = bpy.context.active_object
-R["cubes_kept"] = run(cubes, target_triangles=10)
-R["cubes_removed"] = run(cubes, target_triangles=10, remove_small_components=True)
-'''
+from bpy_harness import run_scenario
 
 
 @pytest.fixture(scope="module")
 def res(blender_user_dir):
-    return run_in_blender(SNIPPET, user_dir=blender_user_dir, timeout=600)
+    return run_scenario("addon_low_targets", user_dir=blender_user_dir, timeout=600)
 
 
 @pytest.mark.parametrize("case", ["sphere", "big_sphere", "monkey_20"])

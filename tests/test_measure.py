@@ -1,8 +1,8 @@
 """addon/measure.py: surface deviation against cases with known answers.
 
 The sampling runs here in the test process (it is pure NumPy); everything that needs
-``mathutils`` runs in one Blender child per session (bpy_harness), which gets the test
-meshes through an .npz file and returns the measured dicts.
+``mathutils`` runs in one Blender child per session (tests/scenarios/measure_deviation.py),
+which gets the test meshes through an .npz file and returns the measured dicts.
 """
 from __future__ import annotations
 
@@ -10,53 +10,9 @@ import numpy as np
 import pytest
 
 from addon import measure
-from bpy_harness import run_in_blender
-
-
-# ---------------------------------------------------------------- meshes (NumPy)
-
-def grid(n: int = 10, size: float = 1.0):
-    """A flat n x n-quad square in z = 0, triangulated: (V, F)."""
-    t = np.linspace(0.0, size, n + 1)
-    x, y = np.meshgrid(t, t, indexing="xy")
-    v = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
-    i = (np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]).ravel()
-    f = np.r_[np.c_[i, i + 1, i + n + 2], np.c_[i, i + n + 2, i + n + 1]]
-    return v, f.astype(np.int64)
-
-
-def icosphere(level: int):
-    """Unit icosphere (all vertices on the sphere) after ``level`` 1->4 subdivisions."""
-    p = (1.0 + 5 ** 0.5) / 2.0
-    v = np.array([[-1, p, 0], [1, p, 0], [-1, -p, 0], [1, -p, 0], [0, -1, p], [0, 1, p],
-                  [0, -1, -p], [0, 1, -p], [p, 0, -1], [p, 0, 1], [-p, 0, -1], [-p, 0, 1]], float)
-    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
-                  [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
-                  [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
-                  [8, 6, 7], [9, 8, 1]], np.int64)
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    for _ in range(level):
-        e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
-        key = e[:, 0] * len(v) + e[:, 1]
-        uniq, inv = np.unique(key, return_inverse=True)
-        mid = v[uniq // len(v)] + v[uniq % len(v)]
-        mid /= np.linalg.norm(mid, axis=1, keepdims=True)
-        m = len(f)
-        a, b, c = (len(v) + inv.reshape(3, m)).astype(np.int64)  # midpoints of 01, 12, 20
-        f = np.concatenate([np.c_[f[:, 0], a, c], np.c_[a, f[:, 1], b],
-                            np.c_[c, b, f[:, 2]], np.c_[a, b, c]])
-        v = np.concatenate([v, mid])
-    return v, f
-
-
-def max_sagitta(v, f, radius=1.0) -> float:
-    """Largest depth below the sphere of a face's circumcentre: R - sqrt(R^2 - rho^2)."""
-    a = np.linalg.norm(v[f[:, 1]] - v[f[:, 2]], axis=1)
-    b = np.linalg.norm(v[f[:, 2]] - v[f[:, 0]], axis=1)
-    c = np.linalg.norm(v[f[:, 0]] - v[f[:, 1]], axis=1)
-    area = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
-    rho = a * b * c / (4.0 * area)
-    return float((radius - np.sqrt(radius ** 2 - rho ** 2)).max())
+from bpy_harness import run_scenario
+from mesh_builders import grid, icosphere
+from mesh_checks import max_sagitta
 
 
 # ---------------------------------------------------------------- NumPy side
@@ -113,41 +69,11 @@ def test_bounded_queries_fall_back_to_exact_distances():
 
 # ---------------------------------------------------------------- Blender side
 
-_SNIPPET = r'''
-import numpy as np
-from addon import measure
-import core
-d = np.load(MESHES)
-def sd(a, b, **kw):
-    return measure.surface_deviation(d[a + "_v"], d[a + "_f"], d[b + "_v"], d[b + "_f"], **kw)
-RESULT["identical"] = sd("plane", "plane", n_samples=20_000)
-RESULT["shifted"] = sd("plane", "shifted", n_samples=20_000)
-RESULT["sphere"] = sd("fine", "coarse", n_samples=50_000)
-RESULT["sphere_swapped"] = sd("coarse", "fine", n_samples=50_000)
-RESULT["density"] = sd("plane", "shifted", samples_per_unit_area=1000)
-RESULT["report"] = measure.mesh_report(d["fine_v"], d["fine_f"], d["coarse_v"], d["coarse_f"],
-                                       n_samples=5000)
-RESULT["core_quality"] = core.quality_summary(d["coarse_v"], d["coarse_f"])
-errors = {}
-for name, call in {
-    "empty": lambda: sd("plane", "empty"),
-    "index": lambda: measure.surface_deviation(d["plane_v"], d["plane_f"] + 1000, d["plane_v"], d["plane_f"]),
-    "both_counts": lambda: sd("plane", "plane", n_samples=10, samples_per_unit_area=10),
-    "nan": lambda: measure.surface_deviation(d["plane_v"] * np.nan, d["plane_f"], d["plane_v"], d["plane_f"]),
-}.items():
-    try:
-        call()
-        errors[name] = None
-    except ValueError as ex:
-        errors[name] = str(ex)
-RESULT["errors"] = errors
-'''
-
 
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("measure")
-    plane_v, plane_f = grid(10)
+    plane_v, plane_f = grid(10, alternate=False)
     fine_v, fine_f = icosphere(4)
     coarse_v, coarse_f = icosphere(2)
     path = tmp / "meshes.npz"
@@ -155,8 +81,8 @@ def measured(tmp_path_factory):
              shifted_v=plane_v + [0.0, 0.0, 0.1], shifted_f=plane_f,
              fine_v=fine_v, fine_f=fine_f, coarse_v=coarse_v, coarse_f=coarse_f,
              empty_v=plane_v, empty_f=np.empty((0, 3), np.int64))
-    code = f"MESHES = {str(path)!r}\n" + _SNIPPET
-    result = run_in_blender(code, user_dir=tmp / "blender", install=False, timeout=300)
+    result = run_scenario("measure_deviation", {"meshes_npz": str(path)}, user_dir=tmp / "blender",
+                          install=False, timeout=300)
     result["sagitta_fine"] = max_sagitta(fine_v, fine_f)
     result["sagitta_coarse"] = max_sagitta(coarse_v, coarse_f)
     return result
@@ -229,18 +155,8 @@ def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):
     # Installed, addon/ is a subpackage of the extension: mesh_report must reach the
     # sibling core relatively, not a top-level ``core`` (which the harness also makes
     # importable from the checkout, so a wrong branch would go unnoticed otherwise).
-    r = run_in_blender('''
-import importlib, sys
-import numpy as np
-m = importlib.import_module(EXT + ".addon.measure")
-v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
-f = np.array([[0, 1, 2], [1, 3, 2]])
-rep = m.mesh_report(v, f, v + [0.0, 0.0, 0.25], f, n_samples=1000)
-RESULT["hausdorff"] = rep["hausdorff"]
-RESULT["mean_quality"] = rep["mean_quality"]
-RESULT["ext_core"] = (EXT + ".core") in sys.modules
-RESULT["top_core"] = "core" in sys.modules
-''', user_dir=blender_user_dir)
+    r = run_scenario("measure_installed_core", user_dir=blender_user_dir)
     assert r["hausdorff"] == pytest.approx(0.25, abs=1e-6)
     assert r["mean_quality"] == pytest.approx(2 * 3 ** 0.5 * 1.0 / 4.0)  # right isosceles: q = 0.866
-    assert r["ext_core"] and not r["top_core"]
+    assert r["ext_core"], "the installed measure did not import the extension's own core"
+    assert not r["top_core"], "the installed measure imported the checkout's top-level core"

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import bpy_harness
-from bpy_harness import run_in_blender
+from bpy_harness import run_scenario
 
 OPERATORS = ("line_quadric_lod", "line_quadric_lod_paint", "line_quadric_lod_from_armature")
 DEV_ONLY_TOP = ("tests/", "docs/", "bench/", ".ci/", "tools/", ".venv/", ".venvs/", ".blender-user/", "out/", "dist/")
@@ -90,44 +90,10 @@ def test_root_package_imports_without_bpy(repo_root):
     assert proc.returncode == 0, proc.stderr[-3000:]
 
 
-INSTALL_CHECK = '''
-import os, sys, addon_utils
-OPS = %(ops)r
-
-def op_state():
-    state = {}
-    for name in OPS:
-        # hasattr(bpy.ops.object, name) is True for ANY name in bpy 4.5 (the lookup is lazy),
-        # so registration is checked through dir() and the operator's RNA type.
-        listed = name in dir(bpy.ops.object)
-        ident = None
-        if listed:
-            ident = getattr(bpy.ops.object, name).get_rna_type().identifier
-        state[name] = {"hasattr": hasattr(bpy.ops.object, name), "listed": listed,
-                       "identifier": ident, "in_types": bool(ident) and hasattr(bpy.types, ident)}
-    return state
-
-RESULT["enabled"] = EXT in {a.module for a in bpy.context.preferences.addons}
-RESULT["ext_file"] = getattr(EXT_PKG, "__file__", None)
-RESULT["user_ext_dir"] = bpy.utils.user_resource("EXTENSIONS")
-RESULT["user_paths"] = [bpy.utils.user_resource(k) for k in ("CONFIG", "SCRIPTS", "DATAFILES", "EXTENSIONS")]
-RESULT["user_paths"].append(os.path.expanduser("~"))
-RESULT["ext_modules_outside"] = sorted(
-    name for name, m in list(sys.modules.items())
-    if name.startswith(EXT) and getattr(m, "__file__", None)
-    and not os.path.realpath(m.__file__).startswith(os.path.realpath(RESULT["user_ext_dir"])))
-RESULT["ops"] = op_state()
-
-addon_utils.disable(EXT, default_set=True)
-RESULT["ops_after_disable"] = {n: n in dir(bpy.ops.object) for n in OPS}
-addon_utils.enable(EXT, default_set=True, handle_error=None)
-RESULT["ops_after_enable"] = {n: n in dir(bpy.ops.object) for n in OPS}
-''' % {"ops": OPERATORS}
-
-
 @pytest.fixture(scope="module")
 def installed(blender_user_dir):
-    return run_in_blender(INSTALL_CHECK, user_dir=blender_user_dir), Path(blender_user_dir)
+    return (run_scenario("packaging_install", {"operators": list(OPERATORS)}, user_dir=blender_user_dir),
+            Path(blender_user_dir))
 
 
 def test_extension_installs_into_isolated_user_dir_and_is_enabled(installed):

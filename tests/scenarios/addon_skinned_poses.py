@@ -1,0 +1,69 @@
+"""Importance from the armature measured posed: a 5 % LOD without and with it, each posed
+by the rig in four random poses and measured against the posed source
+(tests/test_addon_skinned_poses.py checks what this returns)."""
+import math
+
+import bpy
+import numpy as np
+from scene_tools import (capped_tube, extension_module, parent_with_automatic_weights, posed_triangles,
+                         remove_all_objects, three_bone_rig)
+
+POSE_SEEDS = (11, 12, 13, 14)
+
+
+def tube_radius(z):
+    return 0.2 + 0.03 * np.sin(z * 2.1) ** 2
+
+
+def set_pose(rig, seed) -> None:
+    """The rest pose (seed None), or every bone turned by 20 to 50 degrees about a random axis."""
+    rng = np.random.default_rng(seed)
+    for pb in rig.pose.bones:
+        pb.rotation_mode = 'QUATERNION'
+        if seed is None:
+            pb.rotation_quaternion = (1, 0, 0, 0)
+            continue
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        angle = math.radians(rng.uniform(20.0, 50.0))
+        pb.rotation_quaternion = (math.cos(angle / 2), *(math.sin(angle / 2) * axis))
+    bpy.context.view_layer.update()
+
+
+def run() -> dict:
+    lod = extension_module("addon.lod")
+    measure = extension_module("addon.measure")
+    LodSettings = extension_module("addon.settings").LodSettings
+    result = {}
+    remove_all_objects()
+    rig = three_bone_rig()
+    ob, V, _faces = capped_tube("Tube", tube_radius, around=48, rings=80)
+    result["parent"] = parent_with_automatic_weights(rig, ob)
+
+    lods = {}
+    for source in ('NONE', 'ARMATURE'):
+        set_pose(rig, None)
+        report = lod.generate_lods(bpy.context.scene, ob, LodSettings(
+            ratio=0.05, levels=1, importance_source=source, measure_deviation=False))
+        lod_ob = bpy.data.objects[report["levels"][0]["name"]]
+        del lod_ob[lod.SOURCE_PROP]  # keep it out of the next run's cleanup
+        lod_ob.name = source
+        lods[source] = lod_ob
+    result["triangles"] = {k: len(posed_triangles(L)[1]) for k, L in lods.items()}
+    result["modifiers"] = [m.type for m in lods['ARMATURE'].modifiers]
+    result["rest"], result["posed"] = {}, {k: [] for k in lods}
+    set_pose(rig, None)
+    source = posed_triangles(ob)
+    for k, lod_ob in lods.items():
+        result["rest"][k] = measure.surface_deviation(*source, *posed_triangles(lod_ob), n_samples=40_000)["mean_percent"]
+    moved = []
+    for seed in POSE_SEEDS:
+        set_pose(rig, seed)
+        source = posed_triangles(ob)
+        moved.append(float(np.abs(source[0] - V).max()))
+        for k, lod_ob in lods.items():
+            result["posed"][k].append(
+                measure.surface_deviation(*source, *posed_triangles(lod_ob), n_samples=40_000)["mean_percent"])
+    result["moved"] = min(moved)
+    set_pose(rig, None)
+    return result

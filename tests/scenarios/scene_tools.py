@@ -1,0 +1,97 @@
+"""What the Blender-side scenarios share: the installed extension's modules, the scene,
+mesh data as NumPy arrays, and the skinned test rig (three bones along z and a capped tube).
+
+Runs inside a Blender child (tests/blender_child.py puts this folder on sys.path).
+"""
+import importlib
+import math
+
+import bpy
+import numpy as np
+from bpy_harness import EXT_MODULE
+
+
+def extension_module(name: str):
+    """A module of the installed extension, e.g. ``extension_module("addon.lod")``."""
+    return importlib.import_module(f"{EXT_MODULE}.{name}")
+
+
+def remove_all_objects() -> None:
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+
+
+def select_only(*obs) -> None:
+    """Select exactly ``obs``; the first becomes active (with none, the active one stays)."""
+    for ob in list(bpy.context.selected_objects):
+        ob.select_set(False)
+    for ob in obs:
+        ob.select_set(True)
+    if obs:
+        bpy.context.view_layer.objects.active = obs[0]
+
+
+def array(collection, prop: str, width: int, dtype=np.float32):
+    """``collection.foreach_get(prop)`` as a flat NumPy array (width values per item)."""
+    values = np.empty(len(collection) * width, dtype=dtype)
+    collection.foreach_get(prop, values)
+    return values
+
+
+def posed_triangles(ob):
+    """The object as evaluated now (modifiers, pose), triangulated, in world space:
+    (V (n, 3) float64, F (m, 3) int32)."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    depsgraph.update()
+    evaluated = ob.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    mesh.calc_loop_triangles()
+    points = array(mesh.vertices, "co", 3).reshape(-1, 3).astype(float)
+    faces = array(mesh.loop_triangles, "vertices", 3, np.int32).reshape(-1, 3)
+    matrix = np.array(evaluated.matrix_world)
+    evaluated.to_mesh_clear()
+    return points @ matrix[:3, :3].T + matrix[:3, 3], faces
+
+
+def three_bone_rig(name: str = "Armature"):
+    """An armature along z: Upper 0-1 (the elbow at z = 1), Lower 1-2, Hand 2-2.6."""
+    bpy.ops.object.armature_add(enter_editmode=True, location=(0, 0, 0))
+    rig = bpy.context.active_object
+    rig.name = name
+    bones = rig.data.edit_bones
+    upper = bones[0]
+    upper.name, upper.head, upper.tail = "Upper", (0, 0, 0), (0, 0, 1.0)
+    parent = upper
+    for bone_name, head, tail in (("Lower", 1.0, 2.0), ("Hand", 2.0, 2.6)):
+        bone = bones.new(bone_name)
+        bone.head, bone.tail = (0, 0, head), (0, 0, tail)
+        bone.parent, bone.use_connect = parent, True
+        parent = bone
+    bpy.ops.object.mode_set(mode='OBJECT')
+    return rig
+
+
+def capped_tube(name: str, radius_at, around: int, rings: int):
+    """A tube along z from 0.02 to 2.58 (``rings`` rings of ``around`` vertices, radius
+    ``radius_at(z)``), quads and two n-gon caps, linked to the scene.
+    Returns (object, V (rings * around, 3), faces as vertex tuples)."""
+    z = np.linspace(0.02, 2.58, rings)
+    radius = radius_at(z)
+    t = np.linspace(0, 2 * math.pi, around, endpoint=False)
+    V = np.stack([np.outer(radius, np.cos(t)), np.outer(radius, np.sin(t)),
+                  np.repeat(z[:, None], around, 1)], -1).reshape(-1, 3)
+    idx = np.arange(rings * around).reshape(rings, around)
+    quads = np.stack([idx[:-1], np.roll(idx[:-1], -1, 1), np.roll(idx[1:], -1, 1), idx[1:]], -1).reshape(-1, 4)
+    faces = [tuple(q) for q in quads.tolist()] + [tuple(idx[0][::-1].tolist()), tuple(idx[-1].tolist())]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(V.tolist(), [], faces)
+    mesh.update()
+    ob = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(ob)
+    return ob, V, faces
+
+
+def parent_with_automatic_weights(rig, ob) -> list:
+    """Parent ``ob`` to ``rig`` with Automatic Weights, as an artist would; the operator's result."""
+    select_only(rig, ob)
+    return sorted(bpy.ops.object.parent_set(type='ARMATURE_AUTO'))
