@@ -35,6 +35,14 @@ SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object i
 LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
 DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
+# compute() reports simplification as this share of its progress and the deviation
+# measurement (when on) as the rest; progress_share() is what callers estimating time use.
+SIMPLIFY_SHARE = 0.8
+
+
+def progress_share(measuring: bool) -> float:
+    """The share of compute()'s progress fraction that simplification takes."""
+    return SIMPLIFY_SHARE if measuring else 1.0
 
 
 @dataclass
@@ -295,11 +303,11 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     """Simplify and measure (no bpy data access: safe in a worker thread).
 
     progress(fraction in [0, 1]) is called during the run; returning False cancels it
-    (LodCancelled). Simplification is the first 80 %, the deviation report the rest.
+    (LodCancelled). Simplification is the first SIMPLIFY_SHARE, the deviation report the rest.
     """
     t0 = time.perf_counter()
     measuring = lod_input.settings.measure_deviation
-    simplify_share = 0.8 if measuring else 1.0
+    simplify_share = progress_share(measuring)
 
     def report_progress(fraction):
         if progress is not None and progress(min(max(fraction, 0.0), 1.0)) is False:

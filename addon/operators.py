@@ -19,9 +19,7 @@ from .importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
 from .props import settings_properties
-
-IMPORTANCE_GROUP = "LOD_Importance"
-PREVIEW_GROUP = "LOD_Importance_Preview"
+from .settings import IMPORTANCE_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import bpy
 
-from .settings import LodSettings
+from .settings import PRESERVE_PAIRS, LodSettings
 from .importance import expected_gain
 from .operators import (
     OBJECT_OT_line_quadric_lod,
@@ -14,20 +14,14 @@ from .operators import (
     OBJECT_OT_line_quadric_lod_preview_importance,
 )
 
-_PRESERVE = (
-    ("preserve_boundaries", "boundary_strength"),
-    ("preserve_seams", "seam_strength"),
-    ("preserve_sharp", "sharp_strength"),
-    ("preserve_materials", "material_strength"),
-)
 
 
 def chain_preview(settings) -> str:
-    """What the Target settings will make, e.g. "50% · 25% · 12.5%"."""
-    if settings.target_triangles > 0:
-        counts = [round(settings.target_triangles * settings.level_factor ** k) for k in range(settings.levels)]
-        return " · ".join(f"{c:,}" for c in counts) + " triangles"
-    return " · ".join(f"{100 * settings.ratio * settings.level_factor ** k:.3g}%" for k in range(settings.levels))
+    """What the Target settings will make, e.g. "50% · 25% · 12.5%" (LodSettings.chain)."""
+    kind, values = LodSettings.from_properties(settings).chain()
+    if kind == "triangles":
+        return " · ".join(f"{c:,}" for c in values) + " triangles"
+    return " · ".join(f"{100 * r:.3g}%" for r in values)
 
 
 class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
@@ -88,7 +82,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         box = layout.box()
         box.label(text="Preserve", icon='LOCKED')
         col = box.column(align=True)
-        for flag, strength in _PRESERVE:
+        for flag, strength in PRESERVE_PAIRS:
             row = col.row(align=True)
             row.prop(settings, flag)
             sub = row.row(align=True)

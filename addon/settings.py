@@ -1,12 +1,43 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The settings of a LOD run and its two error types, free of bpy (the command line
-parses into them, and tests check them without Blender)."""
+"""The settings of a LOD run, defined once, and its two error types; free of bpy.
+
+``SETTINGS`` is the one table of the settings: each row gives a setting's name (the
+``LodSettings`` field, the Blender property and the panel's), default, valid range,
+label, tooltip, command-line flag and the core option it becomes. Everything else is
+derived from it: ``LodSettings`` (the dataclass), its ``validate()``, the Blender
+properties (props.py), the panel's Preserve rows (``PRESERVE_PAIRS``) and the command
+line's options (``add_arguments``, ``settings_from_arguments``, ``argument_problems``).
+
+One name per idea across the layers (the add-on's names are Blender property names that
+saved files and scripts use, so where the core follows the paper they differ, once, here):
+
+    panel label    setting / property      flag                      core option (core.Options)
+    Uniformity     line_weight             --line-weight             line_weight: the paper's w
+                                                                     (per vertex: line_weights, w_i)
+    Importance     importance_source/_group --importance-group,      (the painted g in [0, 1] per vertex)
+                                           --from-armature
+    Strength       importance_strength     --strength                quadric_scale = F(strength) ** g
+                                                                     (Sec. 4.4.1; addon/importance.py)
+    Boundaries     preserve_boundaries,    --no-preserve-boundaries, boundary_weight (0 when off)
+                   boundary_strength       --boundary-strength
+    UV Seams       preserve_seams,         --no-preserve-seams,      preserve_seams, and seam edges in
+                   seam_strength           --seam-strength           feature_edges with edge_weights
+    Sharp Edges /  preserve_sharp/_materials, sharp/material_strength   feature_edges with edge_weights
+    Material Borders                                                 (the paper's w_ij, Eq. 19)
+
+"Importance" always means g in [0, 1], painted or derived from the skin weights; the core
+never sees it, only the quadric scale it is turned into.
+"""
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any, Optional
 
 import numpy as np
+
+from ._core import core
+from .importance import DEFAULT_STRENGTH as DEFAULT_IMPORTANCE_STRENGTH
 
 
 class LodError(Exception):
@@ -17,38 +48,206 @@ class LodCancelled(Exception):
     """The progress callback asked to stop; nothing was changed."""
 
 
-@dataclass
-class LodSettings:
-    """Every setting of a LOD run; the field names are the operator's property names."""
+IMPORTANCE_GROUP = "LOD_Importance"  # the vertex group Paint Importance and the sample use
+PREVIEW_GROUP = "LOD_Importance_Preview"  # where Preview Importance writes what it shows
 
-    ratio: float = 0.5
-    levels: int = 3
-    level_factor: float = 0.5
-    target_triangles: int = 0
-    line_weight: float = 1e-3
-    min_quality: float = 0.3
-    feature_angle: float = 80.0
-    remove_small_components: bool = False
-    importance_source: str = 'NONE'
-    importance_group: str = ""
-    importance_strength: float = 0.5  # the calibrated default (addon/importance.py)
+IMPORTANCE_SOURCES = (
+    ('NONE', "None", "Every vertex counts the same"),
+    ('VERTEX_GROUP', "Vertex Group",
+     "A vertex group (e.g. painted in Weight Paint mode): weight 1 marks the most important vertices"),
+    ('ARMATURE', "Armature",
+     "From the skin weights (paper Sec. 5.3): vertices shared by several deform bones, "
+     "near joints, are kept so the LOD still bends well"),
+)
+# Kept only so files and scripts that set it still load: both act alike since issue 19.
+IMPORTANCE_MODES = (
+    ('SOFT', "Soft", "No longer used: importance has one calibrated mode (see Strength)"),
+    ('STRONG', "Strong", "No longer used: importance has one calibrated mode (see Strength)"),
+)
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One row of the table.
+
+    low/high: the valid range (None: unbounded), open at low_open/high_open; validation
+      and the command line check it, Blender properties get it as their min/max unless
+      ``blender`` says otherwise (a property cannot have an open bound).
+    blender: further Blender property arguments (soft_max, subtype, precision, ...).
+    flag: the command-line option, or None; a bool whose flag starts with --no- turns
+      the setting off. cli: further argparse arguments (metavar, help with {default}).
+    what: how messages name it. core: the core option it becomes (documentation).
+    strength: for a preserve_* switch, the name of the setting weighting it.
+    """
+
+    name: str
+    default: Any
+    label: str
+    tooltip: str
+    low: Optional[float] = None
+    high: Optional[float] = None
+    low_open: bool = False
+    high_open: bool = False
+    unit: str = ""  # said after the range in messages
+    items: tuple = ()  # enum: (identifier, label, description)
+    blender: dict = field(default_factory=dict)
+    flag: Optional[str] = None
+    cli: dict = field(default_factory=dict)
+    what: str = ""
+    core: str = ""
+    strength: Optional[str] = None
+
+    @property
+    def kind(self) -> type:
+        return type(self.default)
+
+    @property
+    def words(self) -> str:
+        return self.what or self.name.replace("_", " ")
+
+    def problem(self, value, label: Optional[str] = None) -> Optional[str]:
+        """Why ``value`` is not valid for this setting (a message naming it as ``label``,
+        by default its words), or None when it is."""
+        label = label or self.words
+        if self.items:
+            ids = [i for i, _, _ in self.items]
+            if value not in ids:
+                return f"{label} must be {', '.join(ids[:-1])} or {ids[-1]}, not {value!r}"
+            return None
+        if self.kind not in (int, float):
+            return None
+        low_ok = self.low is None or (value > self.low if self.low_open else value >= self.low)
+        high_ok = self.high is None or (value < self.high if self.high_open else value <= self.high)
+        if np.isfinite(value) and low_ok and high_ok:
+            return None
+        if self.high is None:
+            bound = f"{'>' if self.low_open else '>='} {self.low:g}"
+        else:
+            bound = (f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}"
+                     f"{')' if self.high_open else ']'}")
+        return f"{label} must be {bound}{self.unit}, got {value:g}"
+
+
+def _preserve(what, label, flag_name, tooltip, strength, strength_tooltip, core_option):
+    """A Preserve row's switch and strength (the four share their shape and range)."""
+    return (
+        Setting(f"preserve_{what}", True, label, tooltip, flag=f"--no-preserve-{what}",
+                cli={"help": f"do not preserve {flag_name}"}, core=core_option, strength=strength),
+        Setting(strength, 1.0, "Strength", strength_tooltip, low=0.0,
+                blender={"soft_max": 10.0, "max": 1000.0},
+                flag=f"--{strength.replace('_', '-')}",
+                cli={"metavar": "S", "help": f"how strongly {flag_name} are kept (default 1)"},
+                core=core_option),
+    )
+
+
+SETTINGS = (
+    # Target: the LOD chain (the command line gives its chain as ratios or triangle counts).
+    Setting("ratio", 0.5, "Ratio",
+            "Triangles of the first LOD as a fraction of the source's (used when Triangles is 0)",
+            low=0.0, high=1.0, low_open=True, blender={"min": 0.0001, "subtype": 'FACTOR'}),
+    Setting("levels", 3, "Levels", "Number of LODs to make (the source itself is LOD0)",
+            low=1, blender={"max": 16}),
+    Setting("level_factor", 0.5, "Factor",
+            "Each LOD has this fraction of the previous LOD's triangles "
+            "(3 levels at 0.5 from ratio 0.5: 50 %, 25 %, 12.5 %)",
+            low=0.0, high=1.0, low_open=True, high_open=True,
+            blender={"min": 0.01, "max": 0.99, "subtype": 'FACTOR'}),
+    Setting("target_triangles", 0, "Triangles", "Triangle count of the first LOD; 0 uses the Ratio instead",
+            low=0, unit=" (0 uses the ratio)"),
+    # Shape.
+    Setting("line_weight", core.DEFAULT_LINE_WEIGHT, "Uniformity",
+            "Line-quadric weight w for every vertex: higher gives more uniform, "
+            "better shaped triangles, lower follows the shape more faithfully "
+            "(paper default 0.001; above 0.1 the shape starts to suffer)",
+            low=0.0, blender={"soft_max": 0.1, "max": 10.0, "precision": 4, "step": 0.01},
+            flag="--line-weight",
+            cli={"metavar": "W", "help": "line-quadric weight: higher gives more uniform triangles, lower a more "
+                                         "faithful shape (default {default:g}; useful up to 0.1)"},
+            core="line_weight (w; per vertex line_weights, w_i)"),
+    Setting("min_quality", core.SLIVER_QUALITY, "Min Quality",
+            "No collapse makes a triangle thinner than this quality (1 = equilateral): "
+            "lower it (even to 0) for hard-surface parts that need their shape more than "
+            "clean triangles. Relaxed automatically only when the target needs it",
+            low=0.0, high=1.0, blender={"subtype": 'FACTOR'}, what="min triangle quality",
+            flag="--min-quality",
+            cli={"metavar": "Q", "help": "no collapse makes a triangle thinner than this quality, 0 to 1 (1 = "
+                                         "equilateral; default {default:g}); 0 with --line-weight 0 gives "
+                                         "the closest shape on hard-surface parts, at the cost of slivers"},
+            core="min_quality"),
+    Setting("feature_angle", core.features.DEFAULT_FEATURE_ANGLE, "Feature Angle",
+            "Degrees: edges whose faces' normals differ by more than this are kept "
+            "like sharp edges, and corners where three of them meet (or where an open "
+            "border turns by half as much) stay in place. 80 keeps the right angles of "
+            "hard-surface parts; below about 60 organic meshes suffer. 0 turns it off",
+            low=0.0, high=180.0, high_open=True, unit=" degrees (0 = off)",
+            blender={"max": 179.0, "precision": 1}, flag="--feature-angle",
+            cli={"metavar": "DEG", "help": "edges whose faces' normals differ by more than DEG degrees are kept "
+                                           "like sharp edges, and their corners (and turns of open borders by "
+                                           "half as much) stay in place (default {default:g}; 0 = off)"},
+            core="feature_angle (0 becomes None: off)"),
+    Setting("remove_small_components", False, "Remove Small Parts",
+            "When the target needs it, delete the smallest separate parts (bolts, "
+            "leaf cards) instead of stopping above the target",
+            flag="--remove-small-components",
+            cli={"help": "when a target cannot be reached otherwise, delete the smallest separate "
+                         "parts (bolts, leaf cards) rather than stop above it"},
+            core="remove_small_components"),
+    # Importance: g in [0, 1] per vertex, from a vertex group or the skin weights.
+    Setting("importance_source", 'NONE', "Importance", "Where the per-vertex importance comes from",
+            items=IMPORTANCE_SOURCES, core="(chooses g)"),
+    Setting("importance_group", "", "Group",
+            "Vertex group holding the importance (0 = normal, 1 = most important)", core="(holds g)"),
+    Setting("importance_strength", DEFAULT_IMPORTANCE_STRENGTH, "Strength",
+            "How much denser important regions stay, on flat and curved surfaces alike "
+            "(measured at 10 %): 0.1 about 1.5x, 0.25 about 2.4x, 0.5 about 4.5x, "
+            "0.75 about 12x, 1 nearly locked. 0 = importance off",
+            low=0.0, high=1.0, blender={"subtype": 'FACTOR'}, flag="--strength",
+            cli={"metavar": "S", "help": "importance strength, 0 to 1: about 1.5x as dense at 0.1, 4.5x at 0.5, "
+                                         "nearly locked at 1 (default {default:g})"},
+            core="quadric_scale = F(strength) ** g (addon/importance.py)"),
     # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
     # scripts, files and the command line's --mode keep working.
-    importance_mode: str = 'SOFT'
-    preserve_boundaries: bool = True
-    boundary_strength: float = 1.0
-    preserve_seams: bool = True
-    seam_strength: float = 1.0
-    preserve_sharp: bool = True
-    sharp_strength: float = 1.0
-    preserve_materials: bool = True
-    material_strength: float = 1.0
-    use_modifiers: bool = True
-    measure_deviation: bool = True
+    Setting("importance_mode", 'SOFT', "Mode", "No longer used (one calibrated mode); kept so older files load",
+            items=IMPORTANCE_MODES, flag="--mode",
+            cli={"help": "no longer used (importance has one calibrated mode); accepted so older "
+                         "scripts still run"}),
+    # Preserve: each switch with the strength of the planes that hold it.
+    *_preserve("boundaries", "Boundaries", "open boundaries", "Keep open boundaries (holes, borders) in place",
+               "boundary_strength", "Weight of the planes that hold open boundaries (1 = as strong as the surface)",
+               "boundary_weight (0 when off)"),
+    *_preserve("seams", "UV Seams", "UV seams",
+               "Keep UV seams: seam vertices only slide along the seam, UVs never flip",
+               "seam_strength", "Extra weight holding seam edges in place (paper Sec. 4.4.2)",
+               "preserve_seams; seam edges in feature_edges, edge_weights (w_ij)"),
+    *_preserve("sharp", "Sharp Edges", "sharp edges",
+               "Keep edges marked sharp (paper Sec. 4.4.2, dihedral-plane quadrics)",
+               "sharp_strength", "Weight holding sharp edges in place",
+               "sharp edges in feature_edges, edge_weights (w_ij)"),
+    *_preserve("materials", "Material Borders", "material borders",
+               "Keep the borders between faces of different materials",
+               "material_strength", "Weight holding material borders in place",
+               "material borders in feature_edges, edge_weights (w_ij)"),
+    # Run.
+    Setting("use_modifiers", True, "Apply Modifiers",
+            "Simplify the mesh as the modifiers make it (Armature modifiers excepted: "
+            "each LOD gets its own); off: the base mesh",
+            flag="--no-modifiers", cli={"help": "simplify the base meshes, ignoring their modifiers"}),
+    Setting("measure_deviation", True, "Measure Deviation",
+            "Measure each LOD's distance to the source for the report "
+            "(takes about a second per LOD on large meshes)",
+            flag="--no-measure", cli={"help": "skip the deviation measurement (faster; quality is still reported)"}),
+)
+BY_NAME = {s.name: s for s in SETTINGS}
+# The panel's Preserve rows and the command line's --no-preserve-X/--X-strength pairs.
+PRESERVE_PAIRS = tuple((s.name, s.strength) for s in SETTINGS if s.strength)
 
+
+class _LodSettingsMethods:
     @classmethod
     def names(cls) -> list:
-        return [f.name for f in dataclasses.fields(cls)]
+        """The settings of the table (Blender property names), without the explicit chain."""
+        return [s.name for s in SETTINGS]
 
     @classmethod
     def from_properties(cls, props) -> "LodSettings":
@@ -56,39 +255,161 @@ class LodSettings:
         return cls(**{name: getattr(props, name) for name in cls.names()})
 
     def validate(self) -> None:
-        if self.importance_source not in ('NONE', 'VERTEX_GROUP', 'ARMATURE'):
-            raise LodError(f"importance source must be NONE, VERTEX_GROUP or ARMATURE, not {self.importance_source!r}")
-        if self.importance_mode not in ('SOFT', 'STRONG'):
-            raise LodError(f"importance mode must be SOFT or STRONG, not {self.importance_mode!r}")
-        if not (0.0 < self.ratio <= 1.0):
-            raise LodError(f"ratio must be in (0, 1], got {self.ratio}")
-        if self.levels < 1:
-            raise LodError(f"levels must be at least 1, got {self.levels}")
-        if not (0.0 < self.level_factor < 1.0):
-            raise LodError(f"level factor must be between 0 and 1, got {self.level_factor}")
-        if not (0.0 <= self.min_quality <= 1.0):
-            raise LodError(f"min triangle quality must be in [0, 1], got {self.min_quality}")
-        if not (0.0 <= self.feature_angle < 180.0):
-            raise LodError(f"feature angle must be in [0, 180) degrees (0 = off), got {self.feature_angle}")
-        if self.target_triangles < 0:
-            raise LodError(f"target triangles must be 0 (use the ratio) or positive, got {self.target_triangles}")
-        for name in ("line_weight", "importance_strength", "boundary_strength", "seam_strength",
-                     "sharp_strength", "material_strength"):
-            value = getattr(self, name)
-            if not np.isfinite(value) or value < 0:
-                raise LodError(f"{name.replace('_', ' ')} must be >= 0, got {value}")
+        for s in SETTINGS:
+            message = s.problem(getattr(self, s.name))
+            if message:
+                raise LodError(message)
+        message = self.chain_problem()
+        if message:
+            raise LodError(message)
 
-    def targets(self, triangles: int) -> list:
-        """Triangle count of each LOD for a source of ``triangles`` triangles."""
+    def chain_problem(self, ratios_label: str = "ratios", counts_label: str = "triangle counts") -> Optional[str]:
+        """What is wrong with the explicit chain (ratios or triangle_counts), or None;
+        the labels are how the message names them (the command line: --ratios, --faces)."""
+        if self.ratios is not None and self.triangle_counts is not None:
+            return f"give {ratios_label} or {counts_label}, not both"
+        if self.ratios is not None:
+            bad = [r for r in self.ratios if not (np.isfinite(r) and 0.0 < r < 1.0)]
+            if bad or not self.ratios:
+                return (f"{ratios_label}: " + ", ".join(f"{r:g}" for r in bad)
+                        + " not between 0 and 1 (a LOD has fewer triangles than its source)")
+            return _not_decreasing(list(self.ratios), ratios_label, lambda r: f"{r:g}")
+        if self.triangle_counts is not None:
+            counts = list(self.triangle_counts)
+            if not counts or any(int(n) != n or n < 1 for n in counts):
+                return f"{counts_label} must be whole numbers of at least 1, got {' '.join(map(str, counts))}"
+            return _not_decreasing(counts, counts_label, str)
+        return None
+
+    def chain(self) -> tuple:
+        """The LOD chain as the settings give it: ("ratios", fractions of the source's
+        triangles) or ("triangles", counts), one entry per LOD. Explicit ``ratios`` or
+        ``triangle_counts`` (the command line's) win; else the panel's geometric chain:
+        ``levels`` LODs from ``target_triangles`` (or ``ratio``), each ``level_factor``
+        of the one before."""
+        if self.triangle_counts is not None:
+            return "triangles", [int(n) for n in self.triangle_counts]
+        if self.ratios is not None:
+            return "ratios", [float(r) for r in self.ratios]
+        if self.target_triangles > 0:
+            return "triangles", self._geometric(self.target_triangles)
+        return "ratios", [self.ratio * self.level_factor ** k for k in range(self.levels)]
+
+    def targets(self, triangles: int, ratios_label: str = "ratios", counts_label: str = "triangle counts") -> list:
+        """Triangle count of each LOD for a source of ``triangles`` triangles; LodError
+        when the chain cannot be made from it (the labels as in chain_problem)."""
+        if self.triangle_counts is not None:
+            counts = [int(n) for n in self.triangle_counts]
+            if counts[0] >= triangles:
+                raise LodError(f"{counts_label} {counts[0]} is not fewer than the mesh's {triangles:,} triangles")
+            return counts
+        if self.ratios is not None:
+            counts = [int(round(r * triangles)) for r in self.ratios]
+            if counts[-1] < 1 or any(b >= a for a, b in zip(counts, counts[1:])) or counts[0] >= triangles:
+                raise LodError(f"{ratios_label} {' '.join(f'{r:g}' for r in self.ratios)} of {triangles:,} "
+                               f"triangles give {counts}: each LOD needs fewer triangles than the one "
+                               f"before, and at least 1")
+            return counts
         first = self.target_triangles if self.target_triangles > 0 else int(round(self.ratio * triangles))
         if first >= triangles:
             raise LodError(
                 f"the first LOD's target ({first} triangles) is not smaller than the mesh "
                 f"({triangles} triangles): lower the ratio or the triangle count")
-        counts = [int(round(first * self.level_factor ** k)) for k in range(self.levels)]
+        counts = self._geometric(first)
         if counts[-1] < 1 or any(b >= a for a, b in zip(counts, counts[1:])):
             raise LodError(
                 f"{self.levels} levels at factor {self.level_factor:g} from {first} triangles give "
                 f"{counts}: every LOD needs fewer triangles than the one before and at least 1; "
                 f"use fewer levels or a larger first LOD")
         return counts
+
+    def _geometric(self, first: int) -> list:
+        return [int(round(first * self.level_factor ** k)) for k in range(self.levels)]
+
+
+def _not_decreasing(values, label, fmt) -> Optional[str]:
+    if any(b >= a for a, b in zip(values, values[1:])):
+        return f"{label} must decrease (each LOD smaller than the one before), got " + " ".join(fmt(v) for v in values)
+    return None
+
+
+LodSettings = dataclasses.make_dataclass(
+    "LodSettings",
+    [(s.name, s.kind, s.default) for s in SETTINGS] + [
+        # An explicit chain (the command line's --ratios / --faces), replacing the
+        # geometric one of ratio, levels, level_factor and target_triangles.
+        ("ratios", Optional[tuple], None),
+        ("triangle_counts", Optional[tuple], None),
+    ],
+    bases=(_LodSettingsMethods,),
+)
+LodSettings.__module__ = __name__
+LodSettings.__doc__ = """Every setting of a LOD run: the fields of SETTINGS (the operator's
+property names, same defaults), plus an optional explicit chain (ratios or
+triangle_counts). See chain() and targets()."""
+
+
+# ----------------------------------------------------------------------------- command line
+
+
+def flagged() -> list:
+    """The settings the command line has an option for, in table order."""
+    return [s for s in SETTINGS if s.flag]
+
+
+def add_arguments(group, names=None) -> None:
+    """Add the argparse option of each setting in ``names`` (default: every one with a
+    flag) to ``group`` (a parser or argument group). Each stores into the setting's own
+    name (``args.line_weight``; a --no-X switch stores False into ``args.preserve_X``),
+    with the table's default, so ``settings_from_arguments`` can read them back."""
+    for s in (flagged() if names is None else [BY_NAME[n] for n in names]):
+        extra = dict(s.cli)
+        if "help" in extra:
+            extra["help"] = extra["help"].format(default=s.default)
+        if s.kind is bool:
+            off = s.flag.startswith("--no-")
+            group.add_argument(s.flag, dest=s.name, action="store_false" if off else "store_true",
+                               default=s.default, **extra)
+        elif s.items:
+            ids = [i for i, _, _ in s.items]
+            group.add_argument(s.flag, dest=s.name, type=str.upper, choices=ids, default=s.default,
+                               metavar="{" + ",".join(i.lower() for i in ids) + "}", **extra)
+        else:
+            group.add_argument(s.flag, dest=s.name, type=_number if s.kind is float else _whole,
+                               default=s.default, **extra)
+
+
+def argument_problems(args) -> list:
+    """One message per flagged setting whose value in ``args`` is out of range, naming
+    the flag (e.g. "--min-quality must be in [0, 1], got 2")."""
+    return [message for s in flagged() if hasattr(args, s.name)
+            for message in [s.problem(getattr(args, s.name), s.flag)] if message]
+
+
+def settings_from_arguments(args, **overrides) -> "LodSettings":
+    """LodSettings from every setting ``args`` carries (see add_arguments), the rest at
+    their defaults, then ``overrides`` (e.g. ratios=..., importance_source=...)."""
+    values = {name: getattr(args, name) for name in LodSettings.names() if hasattr(args, name)}
+    values.update(overrides)
+    return LodSettings(**values)
+
+
+def _number(text):
+    import argparse
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not np.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _whole(text):
+    import argparse
+
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None

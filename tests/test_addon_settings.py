@@ -1,0 +1,95 @@
+"""The settings table (addon/settings.py) and what is derived from it, without Blender."""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+
+import pytest
+
+import core
+from addon import settings as st
+from addon.settings import SETTINGS, LodError, LodSettings
+
+
+def test_lod_settings_are_the_table_plus_the_explicit_chain():
+    fields = [f.name for f in dataclasses.fields(LodSettings)]
+    assert fields == [s.name for s in SETTINGS] + ["ratios", "triangle_counts"]
+    assert LodSettings.names() == [s.name for s in SETTINGS]
+    assert len(set(LodSettings.names())) == len(SETTINGS)
+    defaults = LodSettings()
+    assert all(getattr(defaults, s.name) == s.default for s in SETTINGS)
+
+
+def test_defaults_shared_with_the_core_are_the_cores():
+    d = LodSettings()
+    assert d.line_weight == core.DEFAULT_LINE_WEIGHT == core.Options().line_weight
+    assert d.min_quality == core.SLIVER_QUALITY == core.Options().min_quality
+    assert d.feature_angle == core.Options().feature_angle
+
+
+def test_preserve_pairs_name_a_switch_and_its_strength():
+    assert [p for p, _ in st.PRESERVE_PAIRS] == ["preserve_boundaries", "preserve_seams", "preserve_sharp",
+                                                 "preserve_materials"]
+    for switch, strength in st.PRESERVE_PAIRS:
+        assert st.BY_NAME[switch].kind is bool and st.BY_NAME[strength].kind is float
+
+
+@pytest.mark.parametrize("setting", [s for s in SETTINGS if s.kind in (int, float)], ids=lambda s: s.name)
+def test_validate_follows_each_range(setting):
+    LodSettings().validate()
+    outside = [setting.low - 1 if setting.low is not None else None,
+               setting.high + 1 if setting.high is not None else None,
+               setting.low if setting.low_open else None, setting.high if setting.high_open else None]
+    for value in [v for v in outside if v is not None]:
+        with pytest.raises(LodError, match=setting.words):
+            LodSettings(**{setting.name: value}).validate()
+    if setting.kind is float:
+        with pytest.raises(LodError, match=setting.words):
+            LodSettings(**{setting.name: float("nan")}).validate()
+
+
+def test_chain_geometric_and_explicit():
+    assert LodSettings().chain() == ("ratios", [0.5, 0.25, 0.125])
+    assert LodSettings(target_triangles=300, levels=2).chain() == ("triangles", [300, 150])
+    assert LodSettings(ratios=(0.5, 0.2), levels=7).chain() == ("ratios", [0.5, 0.2])
+    assert LodSettings(ratios=(0.5, 0.25, 0.1)).targets(1000) == [500, 250, 100]
+    assert LodSettings(triangle_counts=(300, 100), ratio=0.9).targets(1000) == [300, 100]
+
+
+@pytest.mark.parametrize("chain,message", [
+    ({"ratios": (0.5, 1.5)}, "ratios: 1.5 not between 0 and 1"),
+    ({"ratios": (0.25, 0.5)}, r"ratios must decrease \(each LOD smaller than the one before\), got 0.25 0.5"),
+    ({"triangle_counts": (100, 200)}, "triangle counts must decrease"),
+    ({"triangle_counts": (100, 0)}, "at least 1"),
+    ({"ratios": (0.5,), "triangle_counts": (100,)}, "not both"),
+])
+def test_explicit_chain_is_validated(chain, message):
+    with pytest.raises(LodError, match=message):
+        LodSettings(**chain).validate()
+
+
+def test_explicit_chain_messages_can_name_the_options():
+    s = LodSettings(ratios=(0.25, 0.5))
+    assert s.chain_problem("--ratios", "--faces").startswith("--ratios must decrease")
+    with pytest.raises(LodError, match="--ratios 0.5 of 1 triangles give"):
+        LodSettings(ratios=(0.5,)).targets(1, "--ratios", "--faces")
+    with pytest.raises(LodError, match="--faces 5000 is not fewer than the mesh's 1,000 triangles"):
+        LodSettings(triangle_counts=(5000,)).targets(1000, "--ratios", "--faces")
+
+
+def test_command_line_options_come_from_the_table():
+    parser = argparse.ArgumentParser()
+    st.add_arguments(parser)
+    defaults = parser.parse_args([])
+    assert st.settings_from_arguments(defaults) == LodSettings()
+    assert st.argument_problems(defaults) == []
+    args = parser.parse_args(["--line-weight", "0.01", "--no-preserve-seams", "--mode", "strong",
+                              "--no-measure", "--seam-strength", "3"])
+    got = st.settings_from_arguments(args, ratios=(0.5,))
+    assert (got.line_weight, got.preserve_seams, got.importance_mode, got.measure_deviation) == \
+        (0.01, False, 'STRONG', False)
+    assert (got.seam_strength, got.ratios) == (3.0, (0.5,))
+    bad = parser.parse_args(["--min-quality", "2", "--strength", "-1", "--feature-angle", "180"])
+    assert st.argument_problems(bad) == ["--min-quality must be in [0, 1], got 2",
+                                         "--feature-angle must be in [0, 180) degrees (0 = off), got 180",
+                                         "--strength must be in [0, 1], got -1"]
