@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import argparse
 
-import fig_common as fc
+from figures import fig_common as fc  # first: it imports _bootstrap, which must precede bpy
 import bpy  # noqa: F401  (imported early: nothing else may load first, see _bootstrap)
 import matplotlib.pyplot as plt
 import numpy as np

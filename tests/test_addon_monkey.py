@@ -145,7 +145,7 @@ def test_panel_draws_in_every_state(res):
     assert ["label", "LOD2"] in draws["NONE"]
 
 
-# What the docs' picture of the panel (bench/fig_panel.py) shows with the default settings:
+# What the docs' picture of the panel (bench/figures/fig_panel.py) shows with the default settings:
 # each field's label (RNA name or the panel's text override) and value as Blender formats it.
 PANEL_DEFAULTS = {
     "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"], "levels": ["Levels", "3"],

@@ -305,11 +305,11 @@ def bad_inputs(src, result: dict) -> None:
 
 def panel_draws(src, result: dict) -> None:
     """6. The panel draws for every state, referencing only real properties and operators.
-    bench/ui_recorder.py stands in for UILayout (bench/figures/fig_panel.py draws the same
+    bench/figures/ui_recorder.py stands in for UILayout (bench/figures/fig_panel.py draws the same
     recording as the docs' picture of the panel): it raises on an unknown property or operator."""
     import importlib
 
-    ui_recorder = importlib.import_module("bench.ui_recorder")
+    ui_recorder = importlib.import_module("bench.figures.ui_recorder")
     panel_cls = extension_module("addon.panel").VIEW3D_PT_line_quadric_lod
     settings = bpy.context.scene.line_quadric_lod
     draws, draw_settings, draw_items = {}, {}, {}

@@ -1,6 +1,6 @@
 """Paper Fig. 9: distance against triangle quality over a weight sweep, ours versus peers.
 
-    .venv/bin/python bench/fig_pareto.py [--samples N]  ->  docs/images/fig_pareto.png
+    .venv/bin/python bench/figures/fig_pareto.py [--samples N]  ->  docs/images/fig_pareto.png
 
 stanford-bunny (a procedural bumpy sphere when absent) to 10 %:
   * ours: core.simplify over a sweep of the line-quadric weight w;

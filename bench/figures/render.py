@@ -1,6 +1,6 @@
 """Shaded-with-wireframe renders, before and after, made headless through the bpy module.
 
-    .venv/bin/python bench/render.py [--mesh stanford-bunny ogre] [--ratio 0.1] [--size 520]
+    .venv/bin/python bench/figures/render.py [--mesh stanford-bunny ogre] [--ratio 0.1] [--size 520]
                                      [--samples 16] [--engine CYCLES|BLENDER_WORKBENCH]
 
 For each mesh (default: stanford-bunny and ogre), renders the input (../shared/meshes/<mesh>.obj), core.simplify's LOD (default

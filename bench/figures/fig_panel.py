@@ -1,14 +1,14 @@
 """The panel walkthrough's pictures (docs/panel.md): the panel drawn from its own draw()
 code, and renders of what its steps do to the built-in sample's Monkey.
 
-    .venv/bin/python bench/fig_panel.py [--size 400] [--samples 16]
+    .venv/bin/python bench/figures/fig_panel.py [--size 400] [--samples 16]
       -> docs/images/panel_defaults.png, panel_importance.png, panel_last_run.png,
          panel_weights.png, panel_lod_chain.png
 
 Why drawn and not a screenshot: the bpy module has no window, so Blender cannot draw its
 interface. Instead this process registers the add-on (addon.register(), as Blender does
 on enabling it), builds the sample scene of addon/sample.py, and runs the real
-``VIEW3D_PT_line_quadric_lod.draw()`` of addon/panel.py against bench/ui_recorder.py's
+``VIEW3D_PT_line_quadric_lod.draw()`` of addon/panel.py against bench/figures/ui_recorder.py's
 stand-in for UILayout. The recording holds every box, row and column with its ``active``
 flag, each property's UI name and current value from RNA, and each button's ``bl_label``;
 it is drawn here with matplotlib in the colours of Blender's default theme as bpy reports
@@ -20,13 +20,13 @@ operator (it selects the Monkey's painted group "LOD_Importance" as the source; 
 0.5 is the default); after the real Generate LODs operator, called with exactly
 the properties the panel's button carries, with the default settings (the Last Run
 report filled in).
-Renders (bench/render.py: Cycles on the CPU, shaded with wireframe, one camera): the
+Renders (bench/figures/render.py: Cycles on the CPU, shaded with wireframe, one camera): the
 Monkey's "LOD_Importance" weights in Blender's weight-paint colours (blue 0, green 0.5,
 red 1) beside the last LOD made without and with that importance (each LOD carries the
 group, interpolated); the LOD chain made with the panel's defaults, LOD0 (the source) to
 LOD3, with triangle counts and mean triangle quality (core.quality_summary).
 Each line printed on stdout says what one picture shows and the numbers behind it;
-bench/fig_all.py copies them into docs/panel.md.
+bench/figures/fig_all.py copies them into docs/panel.md.
 """
 from __future__ import annotations
 
@@ -472,7 +472,7 @@ def main() -> None:
 
     draw_panel(d["defaults"], title, theme, "panel_defaults.png")
     print("`panel_defaults.png`: the panel with its default settings and the sample's Monkey active, drawn by "
-          "bench/fig_panel.py from addon/panel.py's own draw() (not a screenshot: the bpy module has no window); "
+          "bench/figures/fig_panel.py from addon/panel.py's own draw() (not a screenshot: the bpy module has no window); "
           f"its chain preview reads `{preview(d['defaults'])}`, greyed out: "
           f"{', '.join(greyed(d['defaults'])) or 'nothing'}. With Triangles = {BY_COUNT:,} the same draw() reads "
           f"`{preview(d['by_count'])}`, greyed out: {', '.join(greyed(d['by_count'])) or 'nothing'}.")
@@ -517,7 +517,7 @@ def main() -> None:
                       f"{lv['hausdorff_percent']:.3f} %, mean {lv['mean_percent']:.4f} % of the diagonal)"
                       for lv, q in zip(levels, quality[1:]))
           + f" (Cycles, {args.size} px, {args.samples} samples, rendered in {secs:.0f} s).")
-    fc.log(f"bench/fig_panel.py: {time.perf_counter() - t_start:.0f} s")
+    fc.log(f"bench/figures/fig_panel.py: {time.perf_counter() - t_start:.0f} s")
 
 
 if __name__ == "__main__":

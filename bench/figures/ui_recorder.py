@@ -7,7 +7,7 @@ their ``active`` flags, and for every item what Blender would show, taken from R
 a property's UI name (or the ``text=`` override) and current value formatted as
 Blender formats it, an enum's item names, an operator button's ``bl_label``.
 
-Used by bench/fig_panel.py, which draws the recording as a picture of the panel, and
+Used by bench/figures/fig_panel.py, which draws the recording as a picture of the panel, and
 by tests/test_addon_monkey.py, which checks that the panel names only real properties
 and operators and greys out what it should. Needs a running ``bpy`` only when
 recording (properties are read from the objects passed to ``prop``); :func:`walk` and

@@ -1,6 +1,6 @@
 """Issue 19 § 2: does importance from the armature make posed LODs closer? The table.
 
-    .venv/bin/python bench/skinned_poses.py [--rows A,B,C,D] [--samples N] [--strength S]
+    .venv/bin/python bench/figures/skinned_poses.py [--rows A,B,C,D] [--samples N] [--strength S]
 
 For each row, LODs at the same triangle count through the add-on (addon.lod.generate_lods,
 every other setting the default) with
@@ -18,7 +18,7 @@ bones, clips Survey / Walk / Run):
   A  imported as is, 25 %, 5 random poses
   B  imported as is, Subdivision Surface level 2 before the Armature modifier, 10 %, 5 random poses
   C  as B, 15 frames of its three clips (5 evenly spaced in each)
-  D  docs/figures.md's setup (welded, then subdivided; bench/fig_skinned.py), 10 %, its
+  D  docs/figures.md's setup (welded, then subdivided; bench/figures/fig_skinned.py), 10 %, its
      10 frames of Run and Survey
 Random poses: every bone turned about a random axis by an angle uniform in [0, 40 deg]
 (pose-bone quaternions, seeds 101..105). Without Fox.gltf the script says so and stops.

@@ -1,4 +1,4 @@
-"""Shared pieces of the figure scripts (bench/fig_*.py): meshes they build, plotting, output.
+"""Shared pieces of the figure scripts (bench/figures/fig_*.py): meshes they build, plotting, output.
 
 Import this first in a figure script: it imports ``_bootstrap`` (repository root on
 sys.path, Blender user dirs isolated) before anything can import bpy, and selects
@@ -10,7 +10,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+# bench/, for _bootstrap and the scripts the figures share with the benchmarks (a figure
+# script runs with only its own folder on sys.path).
+_BENCH_DIR = str(Path(__file__).resolve().parent.parent)
+if _BENCH_DIR not in sys.path:
+    sys.path.insert(0, _BENCH_DIR)
+
+import _bootstrap  # noqa: E402  (path + isolated user dirs, before bpy)
 
 try:
     import matplotlib

@@ -1,6 +1,6 @@
 """Paper Fig. 1 and 5: painted importance on a flat region, ours versus Blender's Decimate.
 
-    .venv/bin/python bench/fig_importance.py   ->  docs/images/fig_importance.png
+    .venv/bin/python bench/figures/fig_importance.py   ->  docs/images/fig_importance.png
 
 A flat grid of 120 x 120 quads (121 x 121 = 14,641 vertices, 28,800 triangles) with a disc painted at weight 1 (the rest
 0), taken to 10 %:

@@ -1,6 +1,6 @@
 """Paper Fig. 4: the line-quadric weight w trades shape fidelity for triangle quality.
 
-    .venv/bin/python bench/fig_weight_sweep.py [--samples N]  ->  docs/images/fig_weight_sweep.png
+    .venv/bin/python bench/figures/fig_weight_sweep.py [--samples N]  ->  docs/images/fig_weight_sweep.png
 
 stanford-bunny from ../shared/meshes (a procedural bumpy sphere when it is absent) taken
 to 10 % by core.simplify for w in {0, 1e-4, 1e-3, 1e-2, 1e-1}; for each: mean and minimum

@@ -1,6 +1,6 @@
 """Paper Fig. 3: a flat region simplified with w = 0 (plain quadrics) and w = 1e-4.
 
-    .venv/bin/python bench/fig_planar.py   ->  docs/images/fig_planar.png
+    .venv/bin/python bench/figures/fig_planar.py   ->  docs/images/fig_planar.png
 
 A finely triangulated, jittered flat grid (100 x 100 vertices, 19,602 triangles) taken to
 5 % by core.simplify. On a plane every plane quadric is the same, so with w = 0 every

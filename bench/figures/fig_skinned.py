@@ -1,6 +1,6 @@
 """Paper Fig. 13: a skinned character, posed; how far the posed LOD is from the posed original.
 
-    .venv/bin/python bench/fig_skinned.py [--samples N]  ->  docs/images/fig_skinned.png
+    .venv/bin/python bench/figures/fig_skinned.py [--samples N]  ->  docs/images/fig_skinned.png
 
 The character is Fox.gltf from ../shared/meshes (Khronos sample, CC-BY 4.0: 576 triangles,
 24 bones), imported with Blender's glTF importer. Its triangles come with split vertices,
