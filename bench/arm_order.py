@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 import bpy  # noqa: F401  (brings mathutils, which the distance measure uses)
 
 from addon.measure import surface_deviation
@@ -27,7 +28,7 @@ def main(argv=None) -> int:
     V, F = arm_tube()
     limited = engine.LATER_ROUND_SHARE
     print(f"arm tube: {len(F)} triangles")
-    print("| ratio | order | faces | Hausdorff % | mean % |\n|---|---|---|---|---|")
+    print(tables.header("ratio", "order", "faces", "Hausdorff %", "mean %"))
     for ratio in args.ratios:
         target = int(round(ratio * len(F)))
         outputs = {}
@@ -43,7 +44,7 @@ def main(argv=None) -> int:
         outputs["one at a time (per-area cost)"] = (sV, sF)
         for label, (v, f) in outputs.items():
             d = surface_deviation(V, F, v, f, n_samples=args.samples)
-            print(f"| {ratio:g} | {label} | {len(f)} | {d['hausdorff_percent']:.4f} | {d['mean_percent']:.5f} |")
+            print(tables.row(f"{ratio:g}", label, len(f), f"{d['hausdorff_percent']:.4f}", f"{d['mean_percent']:.5f}"))
     return 0
 
 

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 
 import core
 from addon.measure import mesh_report
@@ -58,8 +59,9 @@ def main(argv=None) -> int:
     dec = decimate(wv, wf, args.ratio)
     base = mesh_report(v, f, dec.vertices, dec.faces, n_samples=args.samples)
     print(f"{args.mesh.name} at {args.ratio:g} ({len(dec.faces):,} of {len(f):,} triangles)\n")
-    print("| settings | Hausdorff % | mean % | Hausdorff / Decimate | mean / Decimate | mean quality | slivers % | seconds |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(tables.header(
+        "settings", "Hausdorff %", "mean %", "Hausdorff / Decimate", "mean / Decimate", "mean quality", "slivers %",
+        "seconds"))
     print(row("Blender's Decimate", base, seconds=dec.seconds))
     for options in args.settings or SETTINGS:
         t0 = time.perf_counter()

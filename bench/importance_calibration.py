@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 
 from figures import fig_common as fc  # first: it imports _bootstrap, which must precede bpy
+import tables
 import bpy  # noqa: F401  (imported early: nothing else may load first, see _bootstrap)
 import matplotlib.pyplot as plt
 import numpy as np
@@ -94,8 +95,7 @@ def sweep() -> None:
             gains.append(in_out / base[curved])
         rows.append((f, *gains, float(np.sqrt(gains[0] * gains[1]))))
         fc.log(f"factor {f:g}: gain flat {gains[0]:.2f}, curved {gains[1]:.2f}")
-    print("| quadric factor | gain, flat | gain, curved | geometric mean |")
-    print("|---|---|---|---|")
+    print(tables.header("quadric factor", "gain, flat", "gain, curved", "geometric mean"))
     for f, a, b, m in rows:
         print(f"| {f:g} | {a:.2f} | {b:.2f} | {m:.2f} |")
     # The table addon/importance.py interpolates: strictly rising in the gain, so a
@@ -156,8 +156,8 @@ def ogre_check() -> None:
     base = rows[0]
     print(f"ogre.obj ({len(F):,} triangles) at {RATIO:.0%}, the {int(g.sum()):,} vertices nearest its top painted "
           f"(region mean distance: from area samples of the painted input surface to the LOD):")
-    print("| run | triangles | region vertices kept | density gain | region mean distance | region mean q |")
-    print("|---|---|---|---|---|---|")
+    print(tables.header(
+        "run", "triangles", "region vertices kept", "density gain", "region mean distance", "region mean q"))
     for label, tris, n_kept, k_in, gain, dist, q in rows:
         print(f"| {label} | {tris:,} | {n_kept:,} ({k_in:.0%}) | {gain / base[4]:.2f}x | "
               f"{dist / base[5]:.2f}x | {q:.3f} |")
@@ -209,8 +209,8 @@ def ogre_operator_check() -> None:
     base = rows[0]
     print(f"Through the add-on (generate_lods, default settings), ogre.obj imported by Blender, "
           f"{int(g.sum()):,} vertices nearest its top in LOD_Importance, {RATIO:.0%}:")
-    print("| run | triangles | region vertices kept | region mean distance | report: painted density |")
-    print("|---|---|---|---|---|")
+    print(tables.header(
+        "run", "triangles", "region vertices kept", "region mean distance", "report: painted density"))
     for label, tris, n_kept, dist, rep in rows:
         dens = f"{rep['painted_density']:.1f}x" if rep else "-"
         print(f"| {label} | {tris:,} | {n_kept:,} ({n_kept / g.sum():.0%}) | {dist / base[3]:.2f}x | {dens} |")
@@ -225,8 +225,9 @@ def main() -> None:
         sweep()
         return
     runs = curve()
-    print("| strength | expected gain | flat: in/out | gain | disc kept | curved: in/out | gain | disc kept | triangles |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print(tables.header(
+        "strength", "expected gain", "flat: in/out", "gain", "disc kept", "curved: in/out", "gain", "disc kept",
+        "triangles"))
     flat = [r for r in runs if r["surface"] == "flat"]
     curved = [r for r in runs if r["surface"] == "curved"]
     for a, b in zip(flat, curved):
@@ -237,8 +238,8 @@ def main() -> None:
     # on flat and curved regions, which is why it went (issue 19).
     soft = curve(former_soft, (0.1, 0.25, 0.5, 1.0))
     print("The former Soft mode (w = 0.001 + 0.1 strength g) on the same surfaces, for comparison:")
-    print("| former Soft strength | flat: gain | disc kept | curved: gain | disc kept | flat / curved |")
-    print("|---|---|---|---|---|---|")
+    print(tables.header(
+        "former Soft strength", "flat: gain", "disc kept", "curved: gain", "disc kept", "flat / curved"))
     half = len(soft) // 2
     for a, b in zip(soft[:half], soft[half:]):
         print(f"| {a['strength']:g} | {a['gain']:.2f}x | {a['kept_in']:.0%} | {b['gain']:.2f}x | {b['kept_in']:.0%} | "

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 
 from addon.measure import surface_deviation
 from blender_reference import decimate, load_mesh
@@ -31,12 +32,13 @@ def main(argv=None) -> int:
     print(f"{mesh.name} ({len(mesh.faces):,} faces) vs Blender Decimate {args.ratio:g} "
           f"({len(out.faces):,} faces); load average {load:.2f} on {os.cpu_count()} cores")
     print()
-    print("| samples per surface | query points in -> out | s, in -> out | s, out -> in | Hausdorff % | mean % |")
-    print("|---|---|---|---|---|---|")
+    print(tables.header(
+        "samples per surface", "query points in -> out", "s, in -> out", "s, out -> in", "Hausdorff %", "mean %"))
     for n in args.samples:
         r = surface_deviation(mesh.vertices, mesh.faces, out.vertices, out.faces, n_samples=n)
-        print(f"| {n:,} | {r['points_src']:,} | {r['seconds_src_to_dst']:.2f} | {r['seconds_dst_to_src']:.2f} "
-              f"| {r['hausdorff_percent']:.4f} | {r['mean_percent']:.5f} |", flush=True)
+        print(tables.row(f"{n:,}", f"{r['points_src']:,}", f"{r['seconds_src_to_dst']:.2f}",
+                         f"{r['seconds_dst_to_src']:.2f}", f"{r['hausdorff_percent']:.4f}", f"{r['mean_percent']:.5f}"),
+              flush=True)
     print()
     print(f"load average at the end: {os.getloadavg()[0]:.2f}")
     return 0

@@ -30,6 +30,7 @@ from functools import partial
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 import bpy
 import numpy as np
 
@@ -227,9 +228,8 @@ def _fmt(value, spec):
 
 
 def markdown_table(rows) -> str:
-    head = ("| mesh | input faces | ratio | method | faces | time (s) | × Blender | Hausdorff % "
-            "| mean % | mean q | min q | q<0.3 % |")
-    lines = [head, "|" + "---|" * 12]
+    lines = [tables.header("mesh", "input faces", "ratio", "method", "faces", "time (s)", "× Blender", "Hausdorff %",
+                           "mean %", "mean q", "min q", "q<0.3 %")]
     for r in rows:
         if "error" in r:
             lines.append(f"| {r['mesh']} | {r['input_faces']:,} | {r['ratio']:g} | {r['method']} "

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 import bpy
 
 import core
@@ -54,8 +55,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--meshes", type=Path, default=_bootstrap.DEFAULT_MESH_DIR)
     args = ap.parse_args(argv)
-    print("| input | triangles | target | core | stop reason | relaxed to step | core s | Decimate | Decimate s |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print(tables.header(
+        "input", "triangles", "target", "core", "stop reason", "relaxed to step", "core s", "Decimate", "Decimate s"))
     for name, v, f, uv, target in cases(args.meshes):
         options = {} if uv is None else {"corner_attributes": {"uv": uv}, "uv_attributes": ("uv",)}
         t0 = time.perf_counter()

@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import tables
 import numpy as np
 
 from blender_reference import decimate, load_mesh
@@ -200,10 +201,9 @@ def _fmt(value, spec):
 
 
 def markdown_table(rows) -> str:
-    lines = ["| mesh | ratio | method | faces | time (s) | seam edges | seam length % | UV islands "
-             "| flips: island | flips: nearest input | flips: face_origin | UV-degenerate "
-             "| stretch mean / max | local stretch mean / max |",
-             "|" + "---|" * 14]
+    lines = [tables.header("mesh", "ratio", "method", "faces", "time (s)", "seam edges", "seam length %", "UV islands",
+                           "flips: island", "flips: nearest input", "flips: face_origin", "UV-degenerate",
+                           "stretch mean / max", "local stretch mean / max")]
     for r in rows:
         lines.append(
             f"| {r['mesh']} | {r['ratio']:g} | {r['method']} | {r['faces']:,} | {_fmt(r['seconds'], '.3f')} "

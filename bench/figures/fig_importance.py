@@ -16,6 +16,7 @@ area) inside and outside the disc.
 from __future__ import annotations
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import bpy
 import matplotlib.pyplot as plt
 import numpy as np
@@ -115,8 +116,8 @@ def main() -> None:
           f"({dec['v_all']:,} of {N * N:,} vertices) and, inverted, keeps "
           f"{dec_inv['v_in']:,} of the {v_in0:,} painted vertices like a hard lock "
           f"({lock['v_in']:,} kept by core's locked=).")
-    print("| method | triangles | stop | vertices | in disc | density in | density out | in/out | mean q |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print(tables.header(
+        "method", "triangles", "stop", "vertices", "in disc", "density in", "density out", "in/out", "mean q"))
     print(f"| input | {len(F):,} | - | {N * N:,} | {v_in0:,} | {d_in0:,.0f} | {d_out0:,.0f} | "
           f"{d_in0 / d_out0:.2f} | - |")
     for r in runs:

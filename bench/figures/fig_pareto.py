@@ -22,6 +22,7 @@ import argparse
 import time
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import bpy  # noqa: F401  (before pymeshlab: pymeshlab's embree breaks a later bpy import)
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter
@@ -117,8 +118,8 @@ def main() -> None:
                      f"{best_q_at_blender_h['mean_quality']:.3f} at {best_q_at_blender_h['label']}, against "
                      f"Blender's {series['blender'][0]['mean_quality']:.3f}")
     print(sentence + ".")
-    print("| method | setting | faces | mean q | min q | q<0.3 % | Hausdorff % | mean % | s |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print(tables.header(
+        "method", "setting", "faces", "mean q", "min q", "q<0.3 %", "Hausdorff %", "mean %", "s"))
     for s, rows in series.items():
         for r in rows:
             print(f"| {style[s][0]} | {r['label']} | {r['faces']} | {r['mean_quality']:.3f} | {r['min_quality']:.3f} | "

@@ -11,6 +11,7 @@ of the neighbourhood (paper Lemma 4.1) and triangles come out even. No bpy neede
 from __future__ import annotations
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -51,11 +52,10 @@ def main() -> None:
           f"(w = {b['w']:g}) gives evenly sized, well-shaped triangles where plain quadrics "
           f"(w = 0) leave an arbitrary triangulation: mean q {a['mean_quality']:.3f} -> {b['mean_quality']:.3f}, "
           f"min q {a['min_quality']:.3f} -> {b['min_quality']:.3f}.")
-    print("| w | faces | stop | mean q | min q | q<0.3 % | area CV |")
-    print("|---|---|---|---|---|---|---|")
+    print(tables.header("w", "faces", "stop", "mean q", "min q", "q<0.3 %", "area CV"))
     for r in rows:
-        print(f"| {r['w']:g} | {r['faces']} | {r['stop']} | {r['mean_quality']:.3f} | {r['min_quality']:.3f} "
-              f"| {r['sliver_percent']:.2f} | {r['cv']:.3f} |")
+        print(tables.row(f"{r['w']:g}", r['faces'], r['stop'], f"{r['mean_quality']:.3f}", f"{r['min_quality']:.3f}",
+                         f"{r['sliver_percent']:.2f}", f"{r['cv']:.3f}"))
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ import argparse
 import sys
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import bpy
 import bmesh  # after bpy: it is one of bpy's modules
 import matplotlib.pyplot as plt
@@ -233,9 +234,8 @@ def main() -> None:
           f"importance, {avg(plain, 'mean_percent'):.4f} % without importance and "
           f"{avg(blender, 'mean_percent'):.4f} % for Blender's Decimate (Hausdorff {avg(ours, 'hausdorff_percent'):.3f} / "
           f"{avg(plain, 'hausdorff_percent'):.3f} / {avg(blender, 'hausdorff_percent'):.3f} %).")
-    print("| method | triangles | rest Hausdorff % | rest mean % | posed Hausdorff %, mean over poses (max) "
-          "| posed mean %, mean over poses (max) |")
-    print("|---|---|---|---|---|---|")
+    print(tables.header("method", "triangles", "rest Hausdorff %", "rest mean %",
+                        "posed Hausdorff %, mean over poses (max)", "posed mean %, mean over poses (max)"))
     for label in labels:
         hs = [posed[p][label][2]["hausdorff_percent"] for p in POSES]
         ms = [posed[p][label][2]["mean_percent"] for p in POSES]

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import bpy  # noqa: F401  (imported early: nothing else may load first, see _bootstrap)
 import matplotlib.pyplot as plt
 import numpy as np
@@ -79,8 +80,7 @@ def main() -> None:
     print(f"On {name} at {RATIO:.0%}, raising w from 0 to 0.1 takes mean triangle quality from "
           f"{q[0]:.3f} to {q[-1]:.3f} ({'monotonically' if mono else 'NOT monotonically'}) while the mean "
           f"distance goes from {rows[0]['mean_percent']:.4f} % to {rows[-1]['mean_percent']:.4f} % of the diagonal.")
-    print("| method | faces | mean q | min q | q<0.3 % | Hausdorff % | mean % | core s |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(tables.header("method", "faces", "mean q", "min q", "q<0.3 %", "Hausdorff %", "mean %", "core s"))
     for r in rows + [ref]:
         secs = f"{r['core_seconds']:.2f}" if "w" in r else "-"
         print(f"| {r['label']} | {r['faces']} | {r['mean_quality']:.3f} | {r['min_quality']:.3f} | "

@@ -31,6 +31,7 @@ import argparse
 import math
 
 import fig_common as fc
+import tables  # in bench/, which fig_common put on sys.path
 import bpy
 import numpy as np
 
@@ -204,9 +205,9 @@ def main() -> None:
     assert sources[0] == "none", "the ratios are against 'none', which goes first"
     print(f"strength {args.strength}, {args.samples:,} samples per surface; mean distance, % of the diagonal")
     labels = sources + ["Decimate"]
-    print("| row | tris | posed: " + " | ".join(labels) + " | posed ratio over none: " + " / ".join(labels[1:])
-          + " | rest: " + " | ".join(labels) + " | rest ratio over none: " + " / ".join(sources[1:]) + " |")
-    print("|---" * (4 + 2 * len(labels)) + "|")
+    print(tables.header("row", "tris",
+                        "posed: " + labels[0], *labels[1:], "posed ratio over none: " + " / ".join(labels[1:]),
+                        "rest: " + labels[0], *labels[1:], "rest ratio over none: " + " / ".join(sources[1:])))
     for key in args.rows.split(","):
         row = ROWS[key]
         fc.log(f"row {key}: {row['title']}")
@@ -215,7 +216,7 @@ def main() -> None:
         ratios = " / ".join(f"{p[lb] / p['none']:.2f}x" for lb in labels[1:])
         rcells = " | ".join(f"{r[lb]:.4f}" for lb in labels)
         rratios = " / ".join(f"{r[lb] / r['none']:.2f}x" for lb in sources[1:])
-        print(f"| {key}: {row['title']} | {tris['none']:,} | {cells} | {ratios} | {rcells} | {rratios} |", flush=True)
+        print(tables.row(f"{key}: {row['title']}", f"{tris['none']:,}", cells, ratios, rcells, rratios), flush=True)
         wins = {lb: sum(pp[lb] < pp["none"] for pp in per_pose) for lb in labels[1:]}
         fc.log(f"  poses where closer than none: {wins} of {len(per_pose)}")
 
