@@ -12,6 +12,7 @@ import tempfile
 from pathlib import Path
 
 from .._core import core
+from ..settings import LodSettings
 from .lod_settings import DEFAULT_RATIOS, settings_from_args
 
 def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
@@ -37,10 +38,11 @@ def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
 
 def settings_summary(args) -> dict:
     s = settings_from_args(args)
-    # The chain and the importance as the options gave them, after the panel's settings.
-    out = {k: v for k, v in vars(s).items() if k not in ("ratio", "levels", "level_factor", "target_triangles",
-                                                         "importance_source", "importance_group",
-                                                         "ratios", "faces")}
+    # The panel's settings but its chain and importance source, which follow as the
+    # options gave them. Named by LodSettings, not by the fields of the settings object,
+    # which has the command line's chain as well.
+    panel_only = ("ratio", "levels", "level_factor", "target_triangles", "importance_source", "importance_group")
+    out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
     out.update(ratios=None if args.faces else list(args.ratios or DEFAULT_RATIOS),
                faces=list(args.faces) if args.faces else None,
                importance_group=args.importance_group, from_armature=bool(args.from_armature),
