@@ -421,7 +421,8 @@ def _remove_object_and_mesh(ob) -> None:
         vertex_groups.remove_mesh(mesh)
 
 
-def _in_scene(collection, scene) -> bool:
+def in_scene(collection, scene) -> bool:
+    """Whether ``collection`` is the scene's own collection or one nested in it."""
     return collection == scene.collection or collection in scene.collection.children_recursive[:]
 
 
@@ -430,8 +431,8 @@ def _lod_collection(scene, source):
     coll = bpy.data.collections.get(name)
     if coll is None:
         coll = bpy.data.collections.new(name)
-    if not _in_scene(coll, scene):
-        parent = next((c for c in source.users_collection if _in_scene(c, scene)), scene.collection)
+    if not in_scene(coll, scene):
+        parent = next((c for c in source.users_collection if in_scene(c, scene)), scene.collection)
         parent.children.link(coll)
     return coll
 

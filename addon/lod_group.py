@@ -51,7 +51,7 @@ def group_chain(context, base: str, chain: list):
     if empty is None or empty.type != 'EMPTY':
         empty = bpy.data.objects.new(name, None)
         # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
-        collection = next((c for c in source.users_collection if lod._in_scene(c, scene)), scene.collection)
+        collection = next((c for c in source.users_collection if lod.in_scene(c, scene)), scene.collection)
         collection.objects.link(empty)
     empty["fbx_type"] = "LodGroup"
     # The group takes LOD0's place in the hierarchy (an armature or bone parent stays).
