@@ -1,9 +1,10 @@
 """The command line end to end through the bpy-module entry point (``python <checkout>``),
 on input files the tests write themselves, with every output re-imported and checked.
 
-Blender processes, kept few (each costs 1-2 s to start): one child writes the inputs,
-one batch run with --jobs 1 and one with --jobs 2 (which starts one child per input),
-one --sample run (the README's demo), and one child re-imports every output.
+Blender processes, kept few (each costs 1-2 s to start): one child writes the inputs
+(tests/scenarios/cli_inputs.py), one batch run with --jobs 1 and one with --jobs 2 (which
+starts one child per input), one --sample run (the README's demo), and one child
+re-imports every output (tests/scenarios/cli_reimport.py).
 """
 import json
 import os
@@ -13,121 +14,13 @@ import sys
 
 import pytest
 
-from bpy_harness import REPO_ROOT, isolated_blender_env, run_in_blender
+from bpy_harness import REPO_ROOT, isolated_blender_env, run_scenario
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 RATIOS = ["0.5", "0.2"]
 GOOD = {"a.obj": ["Ball"], "rig.glb": ["Arm"], "scene.blend": ["Rock", "Slab"]}
 FORMATS = ["blend", "glb"]
-
-WRITE_INPUTS = r'''
-import os
-import numpy as np
-OUT = os.environ["LQLOD_TEST_INPUTS"]
-
-def fresh():
-    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
-
-# a.obj: a UV sphere (UVs, no materials)
-fresh()
-bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=1.0)
-bpy.context.active_object.name = "Ball"
-bpy.ops.wm.obj_export(filepath=os.path.join(OUT, "a.obj"), export_materials=False)
-
-# rig.glb: a UV-mapped tube skinned to two bones that meet at its middle
-fresh()
-ring, rows, r, h = 32, 41, 0.25, 2.0
-t = np.linspace(0, 2 * np.pi, ring, endpoint=False)
-z = np.linspace(0, h, rows)
-V = np.column_stack([np.tile(r * np.cos(t), rows), np.tile(r * np.sin(t), rows), np.repeat(z, ring)])
-i, j = np.meshgrid(np.arange(rows - 1), np.arange(ring), indexing="ij")
-a = (i * ring + j).ravel()
-b = (i * ring + (j + 1) % ring).ravel()
-quads = np.stack([a, b, b + ring, a + ring], -1)
-me = bpy.data.meshes.new("Arm")
-me.from_pydata(V.tolist(), [], quads.tolist())
-cj, ci = quads % ring, quads // ring
-u = cj / ring
-u = np.where((cj == 0) & (cj.max(1, keepdims=True) == ring - 1), 1.0, u)
-me.uv_layers.new(name="UVMap").uv.foreach_set(
-    "vector", np.stack([u, ci / (rows - 1)], -1).astype(np.float32).ravel())
-arm_ob = bpy.data.objects.new("Arm", me)
-bpy.context.scene.collection.objects.link(arm_ob)
-ad = bpy.data.armatures.new("Skeleton")
-rig = bpy.data.objects.new("Skeleton", ad)
-bpy.context.scene.collection.objects.link(rig)
-bpy.context.view_layer.objects.active = rig
-bpy.ops.object.mode_set(mode='EDIT')
-lo = ad.edit_bones.new("Lower"); lo.head, lo.tail = (0, 0, 0), (0, 0, 1)
-up = ad.edit_bones.new("Upper"); up.head, up.tail = (0, 0, 1), (0, 0, 2)
-up.parent = lo; up.use_connect = True
-bpy.ops.object.mode_set(mode='OBJECT')
-s = np.clip((V[:, 2] - 0.8) / 0.4, 0, 1)
-for name, w in (("Lower", 1 - s), ("Upper", s)):
-    g = arm_ob.vertex_groups.new(name=name)
-    for val in np.unique(w[w > 0]):
-        g.add(np.flatnonzero(w == val).tolist(), float(val), 'REPLACE')
-arm_ob.parent = rig
-arm_ob.modifiers.new("Armature", 'ARMATURE').object = rig
-bpy.ops.export_scene.gltf(filepath=os.path.join(OUT, "rig.glb"), export_format='GLB')
-
-# scene.blend: "Rock" (icosphere), "Slab" (a wavy sheet with the vertex group "Detail"
-# on one half), and a camera, which is not a mesh
-fresh()
-bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)
-bpy.context.active_object.name = "Rock"
-bpy.ops.mesh.primitive_grid_add(x_subdivisions=24, y_subdivisions=24, size=2, location=(3, 0, 0))
-slab = bpy.context.active_object
-slab.name = "Slab"
-co = np.empty(len(slab.data.vertices) * 3, np.float32)
-slab.data.vertices.foreach_get("co", co)
-co = co.reshape(-1, 3)
-co[:, 2] = 0.15 * np.sin(3 * co[:, 0]) * np.cos(2 * co[:, 1])
-slab.data.vertices.foreach_set("co", co.ravel())
-slab.vertex_groups.new(name="Detail").add(np.flatnonzero(co[:, 0] < 0).tolist(), 1.0, 'REPLACE')
-bpy.ops.object.camera_add(location=(0, -5, 2))
-bpy.ops.wm.save_as_mainfile(filepath=os.path.join(OUT, "scene.blend"))
-RESULT["written"] = sorted(os.listdir(OUT))
-'''
-
-# Opens or imports every file in LQLOD_TEST_FILES (a JSON list) and describes its objects.
-REIMPORT = r'''
-import json, os, hashlib
-import numpy as np
-
-def describe():
-    objects = {}
-    for ob in bpy.context.scene.objects:
-        entry = {"type": ob.type, "parent": ob.parent.name if ob.parent else None}
-        if ob.type == 'EMPTY':
-            entry["fbx_type"] = ob.get("fbx_type")
-        if ob.type == 'MESH':
-            me = ob.data
-            me.calc_loop_triangles()
-            co = np.empty(len(me.vertices) * 3, np.float32)
-            me.vertices.foreach_get("co", co)
-            tri = np.empty(len(me.loop_triangles) * 3, np.int32)
-            me.loop_triangles.foreach_get("vertices", tri)
-            entry.update(
-                triangles=len(me.loop_triangles), vertices=len(me.vertices),
-                geometry=hashlib.sha256(co.tobytes() + tri.tobytes()).hexdigest(),
-                groups=sorted(g.name for g in ob.vertex_groups),
-                armature=next((md.object.name for md in ob.modifiers
-                               if md.type == 'ARMATURE' and md.object is not None), None),
-                uv_maps=len(me.uv_layers), lod_level=ob.get("lod_level"))
-        objects[ob.name] = entry
-    return objects
-
-for path in json.loads(os.environ["LQLOD_TEST_FILES"]):
-    if path.endswith(".blend"):
-        bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
-    else:
-        bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
-        bpy.ops.import_scene.gltf(filepath=path, disable_bone_shape=True)
-    RESULT[path] = describe()
-'''
-
 
 def run_cli(argv, cwd, user_dir, timeout=600):
     env = {**os.environ, **isolated_blender_env(user_dir)}
@@ -151,11 +44,8 @@ def work(tmp_path_factory):
     root = tmp_path_factory.mktemp("cli")
     inputs = root / "in"
     inputs.mkdir()
-    os.environ["LQLOD_TEST_INPUTS"] = str(inputs)
-    try:
-        run_in_blender(WRITE_INPUTS, user_dir=root / "user", install=False)
-    finally:
-        del os.environ["LQLOD_TEST_INPUTS"]
+    written = run_scenario("cli_inputs", {"out": str(inputs)}, user_dir=root / "user", install=False)["written"]
+    assert written == ["a.obj", "rig.glb", "scene.blend"], f"expected the three inputs written, got {written}"
     (inputs / "broken.glb").write_bytes(b"glTF\x02\x00\x00\x00 truncated")  # a glb cut short
     return root
 
@@ -189,11 +79,7 @@ def sample(work):
 def reimported(work, batches, sample):
     paths = sorted(str(p) for run in batches.values() for p in run["out"].iterdir())
     paths += sorted(str(p) for p in sample["out"].iterdir())
-    os.environ["LQLOD_TEST_FILES"] = json.dumps(paths)
-    try:
-        return run_in_blender(REIMPORT, user_dir=work / "user", install=False)
-    finally:
-        del os.environ["LQLOD_TEST_FILES"]
+    return run_scenario("cli_reimport", {"paths": paths}, user_dir=work / "user", install=False)
 
 
 def test_batch_with_a_broken_file_finishes_the_others_and_fails(batches):
@@ -201,10 +87,11 @@ def test_batch_with_a_broken_file_finishes_the_others_and_fails(batches):
         assert run["code"] == 1, (jobs, run["stderr"][-3000:])
         errors = [line for line in run["stderr"].splitlines() if line.startswith("error:")]
         assert len(errors) == 1 and errors[0].startswith("error: broken.glb: could not import"), (jobs, errors)
-        assert "Traceback" not in run["stderr"]
+        assert "Traceback" not in run["stderr"], (jobs, run["stderr"][-3000:])
         failed = [line for line in run["stdout"].splitlines() if line.startswith("FAILED")]
-        assert len(failed) == 1 and "broken.glb: could not import" in failed[0] and "Bad GLB" in failed[0]
-        assert "3 of 4 inputs done" in run["stdout"]
+        assert len(failed) == 1 and "broken.glb: could not import" in failed[0] and "Bad GLB" in failed[0], \
+            f"expected one FAILED line for broken.glb (Bad GLB), got {failed}"
+        assert "3 of 4 inputs done" in run["stdout"], run["stdout"][-3000:]
         written = sorted(p.name for p in run["out"].iterdir())
         assert written == sorted(f"{stem}_LODs.{fmt}" for stem in ("a", "rig", "scene") for fmt in FORMATS), written
         report = run["report"]
@@ -236,7 +123,9 @@ def test_lod_chains_in_every_output(batches, reimported):
                 if lv["stop_reason"] == "target_reached":
                     assert abs(lv["triangles"] - lv["target"]) <= 1, lv
                 else:  # the engine could not go further: said in a note and the report
-                    assert any(f"LOD{lv['level']} stopped at {lv['triangles']} triangles" in w for w in obj["warnings"])
+                    assert any(f"LOD{lv['level']} stopped at {lv['triangles']} triangles" in w
+                               for w in obj["warnings"]), (f"expected a note that LOD{lv['level']} stopped at "
+                                                           f"{lv['triangles']} triangles, got {obj['warnings']}")
             assert all(b["triangles"] < a["triangles"] for a, b in zip(levels, levels[1:]))
             expected.update({lv["name"]: lv["triangles"] for lv in levels})
         assert sorted(o["object"] for o in entry["objects"]) == sorted(GOOD[os.path.basename(entry["input"])])
@@ -252,7 +141,7 @@ def test_blend_output_keeps_the_scene_and_marks_the_lods(batches, reimported):
     scene = reimported[str(batches[1]["out"] / "scene_LODs.blend")]
     assert scene["Camera"]["type"] == 'CAMERA'  # everything else in the file is kept
     assert [scene[f"Rock_LOD{k}"]["lod_level"] for k in range(3)] == [None, 1, 2]
-    assert "Detail" in scene["Slab_LOD1"]["groups"]  # vertex groups travel with the LODs
+    assert "Detail" in scene["Slab_LOD1"]["groups"], scene["Slab_LOD1"]  # vertex groups travel with the LODs
 
 
 def test_skinned_input_gives_skinned_lods(batches, reimported):
@@ -278,20 +167,20 @@ def test_report_matches_the_table_and_the_settings(batches):
         for obj in f["objects"]:
             for lv in obj["levels"]:
                 cells = rows[lv["name"]]
-                assert cells[0] == os.path.basename(f["input"]) and cells[2] == f"LOD{lv['level']}"
+                assert [cells[0], cells[2]] == [os.path.basename(f["input"]), f"LOD{lv['level']}"], cells
                 assert int(cells[3].replace(",", "")) == lv["triangles"]
                 assert float(cells[5]) == pytest.approx(lv["hausdorff_percent"], abs=6e-4)
                 assert float(cells[6]) == pytest.approx(lv["mean_percent"], abs=6e-5)
                 assert cells[7] == f"{lv['mean_quality']:.3f} / {lv['min_quality']:.3f}"
                 if lv["level"]:
-                    assert lv["hausdorff_percent"] > 0 and lv["mean_percent"] <= lv["hausdorff_percent"]
-                    assert 0 < lv["min_quality"] <= lv["mean_quality"] <= 1 and lv["seconds"] >= 0
+                    assert lv["hausdorff_percent"] > 0 and lv["mean_percent"] <= lv["hausdorff_percent"], lv
+                    assert 0 < lv["min_quality"] <= lv["mean_quality"] <= 1 and lv["seconds"] >= 0, lv
                 else:
-                    assert lv["hausdorff_percent"] == 0.0 and lv["target"] is None
+                    assert lv["hausdorff_percent"] == 0.0 and lv["target"] is None, lv
     importance = {o["object"]: o["importance"] for f in report["files"] for o in f["objects"]}
     assert importance == {"Ball": "NONE", "Arm": "ARMATURE", "Rock": "NONE", "Slab": "VERTEX_GROUP:Detail"}
     rock = next(o for o in report["files"][2]["objects"] if o["object"] == "Rock")
-    assert 'no importance (no vertex group "Detail" and not skinned)' in rock["warnings"]
+    assert 'no importance (no vertex group "Detail" and not skinned)' in rock["warnings"], rock["warnings"]
     assert report["settings"]["ratios"] == [0.5, 0.2] and report["settings"]["importance_group"] == "Detail"
 
 
@@ -331,7 +220,7 @@ def test_sample_demo_writes_blend_and_glb_and_prints_the_table(sample, reimporte
         for name in chains["Character"]:
             assert scene[name]["armature"] is not None, (fmt, name)
     blend = reimported[str(out / "sample_LODs.blend")]
-    assert "LOD_Importance" in blend["Monkey_LOD0"]["groups"]
+    assert "LOD_Importance" in blend["Monkey_LOD0"]["groups"], blend["Monkey_LOD0"]
     assert blend["Character_LOD0"]["armature"] == "Rig"
 
 
@@ -354,4 +243,4 @@ def test_script_mode_takes_the_options_after_double_dash(work):
     data = json.loads(report.read_text())
     assert [f["ok"] for f in data["files"]] == [True, False]
     assert [lv["triangles"] for lv in data["files"][0]["objects"][0]["levels"]] == [2208, 1104]
-    assert "Ball_LOD1" in table_rows(proc.stdout)
+    assert "Ball_LOD1" in table_rows(proc.stdout), proc.stdout

@@ -1,8 +1,10 @@
 """What the Blender-side scenarios share: the installed extension's modules, the scene,
-mesh data as NumPy arrays, and the skinned test rig (three bones along z and a capped tube).
+mesh data as NumPy arrays, a description of a scene's objects, and the skinned test rig
+(three bones along z and a capped tube).
 
 Runs inside a Blender child (tests/blender_child.py puts this folder on sys.path).
 """
+import hashlib
 import importlib
 import math
 
@@ -14,6 +16,11 @@ from bpy_harness import EXT_MODULE
 def extension_module(name: str):
     """A module of the installed extension, e.g. ``extension_module("addon.lod")``."""
     return importlib.import_module(f"{EXT_MODULE}.{name}")
+
+
+def empty_scene() -> None:
+    """A new empty scene from the factory start-up file (enabled add-ons stay enabled)."""
+    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
 
 
 def remove_all_objects() -> None:
@@ -36,6 +43,31 @@ def array(collection, prop: str, width: int, dtype=np.float32):
     values = np.empty(len(collection) * width, dtype=dtype)
     collection.foreach_get(prop, values)
     return values
+
+
+def describe_objects() -> dict:
+    """{name: what it is} for every object of the scene: type and parent; for an Empty its
+    "fbx_type"; for a mesh its triangles and vertices, a hash of its geometry, its vertex
+    groups, the armature that deforms it, its number of UV maps and its "lod_level"."""
+    objects = {}
+    for ob in bpy.context.scene.objects:
+        entry = {"type": ob.type, "parent": ob.parent.name if ob.parent else None}
+        if ob.type == 'EMPTY':
+            entry["fbx_type"] = ob.get("fbx_type")
+        if ob.type == 'MESH':
+            me = ob.data
+            me.calc_loop_triangles()
+            co = array(me.vertices, "co", 3)
+            tri = array(me.loop_triangles, "vertices", 3, np.int32)
+            entry.update(
+                triangles=len(me.loop_triangles), vertices=len(me.vertices),
+                geometry=hashlib.sha256(co.tobytes() + tri.tobytes()).hexdigest(),
+                groups=sorted(g.name for g in ob.vertex_groups),
+                armature=next((md.object.name for md in ob.modifiers
+                               if md.type == 'ARMATURE' and md.object is not None), None),
+                uv_maps=len(me.uv_layers), lod_level=ob.get("lod_level"))
+        objects[ob.name] = entry
+    return objects
 
 
 def posed_triangles(ob):
