@@ -1,16 +1,14 @@
 """The program every Blender child of the tests runs (started by bpy_harness, never by hand).
 
 It imports bpy, restores the saved preferences (which enable the installed extension),
-runs one piece of test code and writes the outcome as JSON for the parent:
+runs one scenario and writes the outcome as JSON for the parent:
 
-    blender_child.py RESULT.json REPO_ROOT LOAD_PREFS(0|1) scenario SCENARIO.py PARAMS.json
-    blender_child.py RESULT.json REPO_ROOT LOAD_PREFS(0|1) snippet SNIPPET.py
+    blender_child.py RESULT.json REPO_ROOT LOAD_PREFS(0|1) SCENARIO.py PARAMS.json
 
-``scenario``: SCENARIO.py (tests/scenarios/) is imported as a module and its
-``run(**params)`` called; what it returns is the result. ``snippet``: the older form of
-``bpy_harness.run_in_blender``, a code string run with ``exec`` and pre-defined names.
-The outcome file holds {"ok": true, "result": ...} or {"ok": false, "traceback": ...};
-the parent raises BlenderError on the latter. Kept free of test logic.
+SCENARIO.py (tests/scenarios/) is imported as a module and its ``run(**params)`` called;
+what it returns is the result. The outcome file holds {"ok": true, "result": ...} or
+{"ok": false, "traceback": ...}; the parent raises BlenderError on the latter. Kept free
+of test logic.
 """
 import importlib.util
 import json
@@ -45,17 +43,8 @@ def _run_scenario(path: str, params_path: str):
     return module.run(**params)
 
 
-def _run_snippet(path: str, ext_module: str, repo_root: str):
-    import bpy
-
-    namespace = {"__name__": "__main__", "bpy": bpy, "RESULT": {}, "EXT": ext_module,
-                 "REPO_ROOT": repo_root, "EXT_PKG": sys.modules.get(ext_module)}
-    exec(compile(Path(path).read_text(encoding="utf-8"), path, "exec"), namespace)
-    return namespace["RESULT"]
-
-
 def main(argv: list) -> int:
-    result_path, repo_root, load_prefs, kind, path, *params_path = argv
+    result_path, repo_root, load_prefs, scenario_path, params_path = argv
     # Appended, not prepended: the installed extension's own modules come first; the
     # checkout's top-level ``core`` and ``addon`` are importable for tests that want them.
     sys.path.append(repo_root)
@@ -67,10 +56,7 @@ def main(argv: list) -> int:
     if load_prefs == "1":
         _enable_extension(EXT_MODULE)
     try:
-        if kind == "scenario":
-            result = _run_scenario(path, *params_path)
-        else:
-            result = _run_snippet(path, EXT_MODULE, repo_root)
+        result = _run_scenario(scenario_path, params_path)
         outcome = {"ok": True, "result": result}
         json.dumps(outcome)
     except BaseException:

@@ -3,7 +3,7 @@
 Why a subprocess: ``bpy`` can be imported only once per process and keeps global state
 (scene, preferences, registered classes), so every Blender check runs in a fresh child
 of the test interpreter (``sys.executable``, i.e. ``.venv/bin/python``). A child costs
-about 0.5-2 s to start: put several checks into one snippet rather than one per test.
+about 0.5-2 s to start: put several checks into one scenario rather than one per test.
 
 Isolation: the child gets ``isolated_blender_env(user_dir)``: every ``BLENDER_USER_*``
 variable and ``HOME`` point inside ``user_dir``, so the real ``~/.config/blender`` is
@@ -14,38 +14,36 @@ with factory preferences and does *not* read ``userpref.blend`` on import. So
 ``install_extension()`` runs one child that calls
 ``bpy.ops.extensions.package_install_files(filepath=zip, repo="user_default",
 enable_on_install=True)`` and then ``bpy.ops.wm.save_userpref()``; every later child
-calls ``bpy.ops.wm.read_userpref()`` before the snippet, which re-enables the installed
+calls ``bpy.ops.wm.read_userpref()`` before the scenario, which re-enables the installed
 extension exactly as Blender does at start-up. A marker file in ``user_dir`` records the
 installed zip's hash, so the install happens once per user dir (the session fixture
 ``blender_user_dir`` in conftest.py does it once per test session).
 
-Writing a snippet for ``run_in_blender``: plain Python run with ``exec`` after bpy is
-imported. Pre-defined names:
-    bpy       the bpy module
-    RESULT    an empty dict; fill it (or rebind it) with JSON-serialisable values;
-              ``run_in_blender`` returns it
-    EXT       the installed add-on's module name, "bl_ext.user_default.line_quadric_lod"
-    EXT_PKG   that package (the extension root module) when installed, else None
-    REPO_ROOT the checkout as a string; it is appended to sys.path, so ``import core``
-              gives the development copy of the pure-NumPy core
-An uncaught exception in the snippet makes ``run_in_blender`` raise ``BlenderError``
-carrying the child's traceback and output tail.
+Writing a scenario for ``run_scenario``: a file tests/scenarios/<name>.py, imported in the
+child after bpy (tests/scenarios/ and tests/ are on sys.path, so it can import
+``scene_tools`` and ``bpy_harness``; the checkout is appended, so ``import core`` gives the
+development copy of the pure-NumPy core). Its ``run(**params)`` returns JSON-serialisable
+values; ``run_scenario`` returns them. An uncaught exception in the scenario makes
+``run_scenario`` raise ``BlenderError`` carrying the child's traceback and output tail.
 
 Unregister what you register: measured with bpy 4.5, a class registered by hand (outside
 an add-on's register()) and left registered makes the interpreter hang at exit. The
-harness kills a child that has not exited EXIT_GRACE_SECONDS after its snippet finished
+harness kills a child that has not exited EXIT_GRACE_SECONDS after its scenario finished
 and raises BlenderError saying so. Add-ons enabled through preferences are unregistered
 by Blender at exit and do not hang.
 
-Example::
+Example (tests/scenarios/monkey_faces.py, then the test)::
 
-    from bpy_harness import run_in_blender
+    import bpy
+
+    def run(size: float) -> dict:
+        bpy.ops.mesh.primitive_monkey_add(size=size)
+        return {"faces": len(bpy.context.active_object.data.polygons)}
+
+    from bpy_harness import run_scenario
     def test_ops(blender_user_dir):
-        r = run_in_blender('''
-    bpy.ops.mesh.primitive_monkey_add()
-    RESULT["faces"] = len(bpy.context.active_object.data.polygons)
-    ''', user_dir=blender_user_dir)
-        assert r["faces"] == 500
+        r = run_scenario("monkey_faces", {"size": 2.0}, user_dir=blender_user_dir)
+        assert r["faces"] == 500, f"expected the monkey's 500 faces, got {r['faces']}"
 """
 from __future__ import annotations
 
@@ -54,7 +52,6 @@ import json
 import os
 import subprocess
 import sys
-import textwrap
 import time
 from pathlib import Path
 
@@ -68,7 +65,7 @@ REPO_MODULE = "user_default"
 EXT_MODULE = f"bl_ext.{REPO_MODULE}.{EXTENSION_ID}"
 
 _INSTALL_MARKER = "line_quadric_lod.installed"
-# How long a child may take to exit after the snippet wrote RESULT (normal: < 1 s).
+# How long a child may take to exit after its scenario wrote the result (normal: < 1 s).
 EXIT_GRACE_SECONDS = 30
 
 
@@ -145,25 +142,19 @@ CHILD_PROGRAM = Path(__file__).resolve().parent / "blender_child.py"
 SCENARIOS_DIR = Path(__file__).resolve().parent / "scenarios"
 
 
-def _run_child(user_dir: Path, timeout: float, load_prefs: bool, *, scenario: Path = None,
-               params: dict = None, snippet: str = None) -> dict:
-    """Run blender_child.py on a scenario file with ``params``, or on a snippet; return
-    what it returned, or raise BlenderError with the child's traceback and output."""
+def _run_child(user_dir: Path, timeout: float, load_prefs: bool, scenario: Path, params: dict = None) -> dict:
+    """Run blender_child.py on a scenario file with ``params``; return what it returned,
+    or raise BlenderError with the child's traceback and output."""
     user_dir = Path(user_dir)
     work = user_dir / "runs"
     work.mkdir(parents=True, exist_ok=True)
     tag = f"{os.getpid()}_{os.urandom(6).hex()}"
     files = {k: work / f"{k}_{tag}{ext}" for k, ext in (
-        ("result", ".json"), ("stdout", ".txt"), ("stderr", ".txt"), ("params", ".json"), ("snippet", ".py"))}
-    if scenario is not None:
-        files["params"].write_text(json.dumps(params or {}), encoding="utf-8")
-        job = ["scenario", scenario, files["params"]]
-    else:
-        files["snippet"].write_text(textwrap.dedent(snippet), encoding="utf-8")
-        job = ["snippet", files["snippet"]]
+        ("result", ".json"), ("stdout", ".txt"), ("stderr", ".txt"), ("params", ".json"))}
+    files["params"].write_text(json.dumps(params or {}), encoding="utf-8")
     env = {**os.environ, **isolated_blender_env(user_dir)}
     cmd = [sys.executable, str(CHILD_PROGRAM), str(files["result"]), str(REPO_ROOT),
-           "1" if load_prefs else "0", *map(str, job)]
+           "1" if load_prefs else "0", str(scenario), str(files["params"])]
     try:
         with open(files["stdout"], "wb") as out, open(files["stderr"], "wb") as err:
             proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env, cwd=str(work))
@@ -179,22 +170,22 @@ def _run_child(user_dir: Path, timeout: float, load_prefs: bool, *, scenario: Pa
                     proc.kill()
                     proc.wait()
                     raise BlenderError(
-                        f"the snippet finished but Blender did not exit within {EXIT_GRACE_SECONDS} s; "
+                        f"the scenario finished but Blender did not exit within {EXIT_GRACE_SECONDS} s; "
                         "usually a bpy class registered outside an add-on was left registered.\n"
                         f"--- stderr (tail) ---\n{_tail(files['stderr'], 4000)}")
                 if now - start > timeout:
                     proc.kill()
                     proc.wait()
                     raise BlenderError(
-                        f"Blender snippet timed out after {timeout} s.\n"
+                        f"Blender scenario timed out after {timeout} s.\n"
                         f"--- stderr (tail) ---\n{_tail(files['stderr'], 4000)}\n"
                         f"--- stdout (tail) ---\n{_tail(files['stdout'], 2000)}")
                 time.sleep(0.05)
         report = json.loads(files["result"].read_text(encoding="utf-8")) if files["result"].exists() else None
         if report is None or not report["ok"] or proc.returncode != 0:
             raise BlenderError(
-                f"Blender snippet failed (exit {proc.returncode}).\n"
-                + (f"--- snippet traceback ---\n{report['traceback']}\n" if report and not report["ok"] else "")
+                f"Blender scenario failed (exit {proc.returncode}).\n"
+                + (f"--- scenario traceback ---\n{report['traceback']}\n" if report and not report["ok"] else "")
                 + f"--- stderr (tail) ---\n{_tail(files['stderr'], 6000)}\n"
                 f"--- stdout (tail) ---\n{_tail(files['stdout'], 3000)}"
             )
@@ -237,27 +228,17 @@ def _ensure_installed(user_dir, install: bool, zip_path) -> None:
             install_extension(zip_path, user_dir)
 
 
-def run_in_blender(code: str, *, user_dir, timeout: float = 600, install: bool = True,
-                   zip_path=None) -> dict:
-    """Run ``code`` in a fresh bpy child with isolated user dirs; return its ``RESULT`` dict.
-
-    install=True: the extension is installed in ``user_dir`` (built from this checkout
-    unless ``zip_path`` is given, and only if not installed there already) and enabled
-    through the saved preferences before ``code`` runs. install=False: factory Blender,
-    the extension is not loaded (``import core`` still works).
-    Raises BlenderError with the child's stderr tail if the snippet fails.
-    """
-    _ensure_installed(user_dir, install, zip_path)
-    return _run_child(user_dir, timeout, load_prefs=install, snippet=code)
-
-
 def run_scenario(name: str, params: dict = None, *, user_dir, timeout: float = 600, install: bool = True,
                  zip_path=None) -> dict:
     """Run ``run(**params)`` of tests/scenarios/<name>.py in a fresh bpy child with isolated
     user dirs; return what it returned (JSON-serialisable, through JSON).
 
-    ``params`` go through JSON too (paths as strings). install, zip_path, timeout and
-    errors: as for run_in_blender.
+    ``params`` go through JSON too (paths as strings). install=True: the extension is
+    installed in ``user_dir`` (built from this checkout unless ``zip_path`` is given, and
+    only if not installed there already) and enabled through the saved preferences before
+    the scenario runs. install=False: factory Blender, the extension is not loaded
+    (``import core`` still works). Raises BlenderError with the child's traceback and
+    stderr tail if the scenario fails or outlives ``timeout`` seconds.
     """
     scenario = SCENARIOS_DIR / f"{name}.py"
     if not scenario.is_file():

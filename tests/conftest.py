@@ -30,7 +30,7 @@ def extension_zip(tmp_path_factory) -> Path:
 @pytest.fixture(scope="session")
 def blender_user_dir(tmp_path_factory, extension_zip) -> Path:
     """An isolated Blender user dir with the extension installed and enabled in its saved
-    preferences. Pass it as ``user_dir=`` to ``bpy_harness.run_in_blender``."""
+    preferences. Pass it as ``user_dir=`` to ``bpy_harness.run_scenario``."""
     user_dir = tmp_path_factory.mktemp("blender_user")
     bpy_harness.install_extension(extension_zip, user_dir)
     return user_dir
