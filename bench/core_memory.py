@@ -46,7 +46,7 @@ def main(argv) -> None:
     data = np.load(argv[0])
     vertices, faces = data["vertices"], data["faces"]
     ratio = float(argv[1])
-    line_weight = float(argv[2]) if len(argv) > 2 else 1e-3
+    line_weight = float(argv[2]) if len(argv) > 2 else core.DEFAULT_LINE_WEIGHT
     before, _ = _peak_rss_mb()
     t0 = time.perf_counter()
     res = core.simplify(vertices, faces, ratio=ratio, line_weight=line_weight)

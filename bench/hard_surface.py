@@ -35,14 +35,13 @@ SETTINGS = (
 
 
 def row(label, report, decimate_report=None, seconds=None) -> str:
-    ratios = ""
     if decimate_report is not None:
-        ratios = (f" | {report['hausdorff_percent'] / decimate_report['hausdorff_percent']:.2f}x"
-                  f" | {report['mean_percent'] / decimate_report['mean_percent']:.2f}x")
+        ratios = (f"{report['hausdorff_percent'] / decimate_report['hausdorff_percent']:.2f}x",
+                  f"{report['mean_percent'] / decimate_report['mean_percent']:.2f}x")
     else:
-        ratios = " | 1 | 1"
-    return (f"| {label} | {report['hausdorff_percent']:.4f} | {report['mean_percent']:.5f}{ratios} | "
-            f"{report['mean_quality']:.3f} | {report['sliver_percent']:.2f} | {seconds:.3f} |")
+        ratios = (1, 1)
+    return tables.row(label, f"{report['hausdorff_percent']:.4f}", f"{report['mean_percent']:.5f}", *ratios,
+                      f"{report['mean_quality']:.3f}", f"{report['sliver_percent']:.2f}", f"{seconds:.3f}")
 
 
 def main(argv=None) -> int:

@@ -38,6 +38,7 @@ import numpy as np
 import core
 from addon import importance as imp
 from addon import measure
+from synthetic_meshes import grid
 
 RATIO = 0.1
 CENTER, RADIUS = np.array([0.3, 0.2]), 0.35
@@ -49,7 +50,8 @@ OGRE_SHARE = 0.15  # of the vertices, nearest the top, painted 1
 def former_soft(g, strength):
     """The former Soft mode (before issue 19), for comparison: an added line weight,
     w_i = 0.001 + 0.1 strength g_i (paper Eq. 16), no scaling."""
-    return {"line_weight": 1e-3, "line_weights": 1e-3 + 0.1 * strength * np.asarray(g)}
+    w = core.DEFAULT_LINE_WEIGHT
+    return {"line_weight": w, "line_weights": w + 0.1 * strength * np.asarray(g)}
 
 
 def region_quality(res, g) -> float:
@@ -61,14 +63,9 @@ def region_quality(res, g) -> float:
 
 def sheet(curved: bool):
     """The calibration grid (flat or curved) and its painted disc g (0/1 per vertex)."""
-    n = 121
-    xs = np.linspace(-1.0, 1.0, n)
-    X, Y = np.meshgrid(xs, xs, indexing="xy")
-    Z = 0.08 * np.sin(3 * np.pi * X) * np.cos(3 * np.pi * Y) if curved else np.zeros_like(X)
-    V = np.c_[X.ravel(), Y.ravel(), Z.ravel()]
-    r, c = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
-    a = (r * n + c).ravel()
-    F = np.concatenate([np.c_[a, a + 1, a + n + 1], np.c_[a, a + n + 1, a + n]]).astype(np.int64)
+    V, F = grid(121, size=2.0, start=-1.0)
+    if curved:
+        V[:, 2] = 0.08 * np.sin(3 * np.pi * V[:, 0]) * np.cos(3 * np.pi * V[:, 1])
     g = (np.linalg.norm(V[:, :2] - CENTER, axis=1) < RADIUS).astype(np.float64)
     return V, F, g
 
@@ -89,7 +86,8 @@ def sweep() -> None:
         gains = []
         for curved in (False, True):
             V, F, g = sheet(curved)
-            res = core.simplify(V, F, ratio=RATIO, line_weight=1e-3, quadric_scale=1.0 + (f - 1.0) * g)
+            res = core.simplify(V, F, ratio=RATIO, line_weight=core.DEFAULT_LINE_WEIGHT,
+                                quadric_scale=1.0 + (f - 1.0) * g)
             in_out = kept(res, g)[2]
             base.setdefault(curved, in_out)
             gains.append(in_out / base[curved])
@@ -97,7 +95,7 @@ def sweep() -> None:
         fc.log(f"factor {f:g}: gain flat {gains[0]:.2f}, curved {gains[1]:.2f}")
     print(tables.header("quadric factor", "gain, flat", "gain, curved", "geometric mean"))
     for f, a, b, m in rows:
-        print(f"| {f:g} | {a:.2f} | {b:.2f} | {m:.2f} |")
+        print(tables.row(f"{f:g}", f"{a:.2f}", f"{b:.2f}", f"{m:.2f}"))
     # The table addon/importance.py interpolates: strictly rising in the gain, so a
     # non-monotone measurement (noise of the last collapses) is dropped, not pasted.
     table, best = [], 0.0
@@ -110,11 +108,11 @@ def sweep() -> None:
 
 def curve(mapping=None, strengths=STRENGTHS) -> list:
     """A strength mapping (the add-on's by default) at the slider's strengths on both surfaces."""
-    mapping = mapping or (lambda g, s: imp.controls(g, 1e-3, s))
+    mapping = mapping or (lambda g, s: imp.controls(g, core.DEFAULT_LINE_WEIGHT, s))
     runs = []
     for curved in (False, True):
         V, F, g = sheet(curved)
-        base = kept(core.simplify(V, F, ratio=RATIO, line_weight=1e-3), g)[2]
+        base = kept(core.simplify(V, F, ratio=RATIO, line_weight=core.DEFAULT_LINE_WEIGHT), g)[2]
         for s in strengths:
             res = core.simplify(V, F, ratio=RATIO, **mapping(g, s))
             k_in, k_out, in_out = kept(res, g)
@@ -143,10 +141,11 @@ def ogre_check() -> None:
     region = F[(g[F] > 0).all(axis=1)]
     points = measure.sample_surface(V, region, 100_000, np.random.default_rng(0))
     rows = []
-    for label, opts in (("no importance", {"line_weight": 1e-3}),
-                        ("strength 0.25", imp.controls(g, 1e-3, 0.25)),
-                        (f"default strength {imp.DEFAULT_STRENGTH:g}", imp.controls(g, 1e-3, imp.DEFAULT_STRENGTH)),
-                        ("strength 0.75", imp.controls(g, 1e-3, 0.75)),
+    w = core.DEFAULT_LINE_WEIGHT
+    for label, opts in (("no importance", {"line_weight": w}),
+                        ("strength 0.25", imp.controls(g, w, 0.25)),
+                        (f"default strength {imp.DEFAULT_STRENGTH:g}", imp.controls(g, w, imp.DEFAULT_STRENGTH)),
+                        ("strength 0.75", imp.controls(g, w, 0.75)),
                         ("former Soft, strength 1 (its default)", former_soft(g, 1.0))):
         res = core.simplify(V, F, ratio=RATIO, **opts)
         k_in, k_out, in_out = kept(res, g)
@@ -159,8 +158,8 @@ def ogre_check() -> None:
     print(tables.header(
         "run", "triangles", "region vertices kept", "density gain", "region mean distance", "region mean q"))
     for label, tris, n_kept, k_in, gain, dist, q in rows:
-        print(f"| {label} | {tris:,} | {n_kept:,} ({k_in:.0%}) | {gain / base[4]:.2f}x | "
-              f"{dist / base[5]:.2f}x | {q:.3f} |")
+        print(tables.row(label, f"{tris:,}", f"{n_kept:,} ({k_in:.0%})", f"{gain / base[4]:.2f}x",
+                         f"{dist / base[5]:.2f}x", f"{q:.3f}"))
 
 
 def ogre_operator_check() -> None:
@@ -213,7 +212,7 @@ def ogre_operator_check() -> None:
         "run", "triangles", "region vertices kept", "region mean distance", "report: painted density"))
     for label, tris, n_kept, dist, rep in rows:
         dens = f"{rep['painted_density']:.1f}x" if rep else "-"
-        print(f"| {label} | {tris:,} | {n_kept:,} ({n_kept / g.sum():.0%}) | {dist / base[3]:.2f}x | {dens} |")
+        print(tables.row(label, f"{tris:,}", f"{n_kept:,} ({n_kept / g.sum():.0%})", f"{dist / base[3]:.2f}x", dens))
 
 
 def main() -> None:
@@ -231,8 +230,9 @@ def main() -> None:
     flat = [r for r in runs if r["surface"] == "flat"]
     curved = [r for r in runs if r["surface"] == "curved"]
     for a, b in zip(flat, curved):
-        print(f"| {a['strength']:g} | {a['expected']:.1f}x | {a['in_out']:.2f} | {a['gain']:.2f}x | {a['kept_in']:.0%} | "
-              f"{b['in_out']:.2f} | {b['gain']:.2f}x | {b['kept_in']:.0%} | {a['triangles']:,} / {b['triangles']:,} |")
+        print(tables.row(f"{a['strength']:g}", f"{a['expected']:.1f}x", f"{a['in_out']:.2f}", f"{a['gain']:.2f}x",
+                         f"{a['kept_in']:.0%}", f"{b['in_out']:.2f}", f"{b['gain']:.2f}x", f"{b['kept_in']:.0%}",
+                         f"{a['triangles']:,} / {b['triangles']:,}"))
 
     # The former Soft mode (an added line weight): its strength meant different densities
     # on flat and curved regions, which is why it went (issue 19).
@@ -242,8 +242,8 @@ def main() -> None:
         "former Soft strength", "flat: gain", "disc kept", "curved: gain", "disc kept", "flat / curved"))
     half = len(soft) // 2
     for a, b in zip(soft[:half], soft[half:]):
-        print(f"| {a['strength']:g} | {a['gain']:.2f}x | {a['kept_in']:.0%} | {b['gain']:.2f}x | {b['kept_in']:.0%} | "
-              f"{a['gain'] / b['gain']:.1f} |")
+        print(tables.row(f"{a['strength']:g}", f"{a['gain']:.2f}x", f"{a['kept_in']:.0%}", f"{b['gain']:.2f}x",
+                         f"{b['kept_in']:.0%}", f"{a['gain'] / b['gain']:.1f}"))
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
     s = [r["strength"] for r in flat]

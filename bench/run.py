@@ -38,6 +38,7 @@ import peers
 from addon.measure import DEFAULT_SAMPLES, mesh_report
 from blender_reference import decimate, load_mesh
 from synthetic_meshes import subdivide_midpoint
+from core import DEFAULT_LINE_WEIGHT, SLIVER_QUALITY
 from core.weld import weld_map
 
 MESH_SUFFIXES = (".obj", ".gltf", ".glb")
@@ -229,18 +230,19 @@ def _fmt(value, spec):
 
 def markdown_table(rows) -> str:
     lines = [tables.header("mesh", "input faces", "ratio", "method", "faces", "time (s)", "× Blender", "Hausdorff %",
-                           "mean %", "mean q", "min q", "q<0.3 %")]
+                           "mean %", "mean q", "min q", f"q<{SLIVER_QUALITY:g} %")]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['mesh']} | {r['input_faces']:,} | {r['ratio']:g} | {r['method']} "
-                         f"| failed: {r['error']} |||||||")
+            # the failure spans the remaining columns: empty cells without spaces
+            lines.append(tables.row(r['mesh'], f"{r['input_faces']:,}", f"{r['ratio']:g}", r['method'],
+                                    f"failed: {r['error']}") + "|" * 6)
             continue
-        lines.append(
-            f"| {r['mesh']} | {r['input_faces']:,} | {r['ratio']:g} | {r['method']} | {r['faces']:,} "
-            f"| {_fmt(r['seconds'], '.3f')} | {_fmt(r.get('time_ratio'), '.2f')} "
-            f"| {_fmt(r['hausdorff_percent'], '.4f')} | {_fmt(r['mean_percent'], '.5f')} "
-            f"| {_fmt(r['mean_quality'], '.3f')} | {_fmt(r['min_quality'], '.3f')} "
-            f"| {_fmt(r['sliver_percent'], '.2f')} |")
+        lines.append(tables.row(
+            r['mesh'], f"{r['input_faces']:,}", f"{r['ratio']:g}", r['method'], f"{r['faces']:,}",
+            _fmt(r['seconds'], '.3f'), _fmt(r.get('time_ratio'), '.2f'),
+            _fmt(r['hausdorff_percent'], '.4f'), _fmt(r['mean_percent'], '.5f'),
+            _fmt(r['mean_quality'], '.3f'), _fmt(r['min_quality'], '.3f'),
+            _fmt(r['sliver_percent'], '.2f')))
     return "\n".join(lines)
 
 
@@ -360,7 +362,8 @@ def criteria(rows, memory=None, big_name=None) -> list:
                             f"{tag}: Hausdorff {c['hausdorff_percent']:.4f} % vs Blender "
                             f"{b['hausdorff_percent']:.4f} % (limit {CAD_DISTANCE_FACTOR}x)"))
                 out.append((c["sliver_percent"] <= CAD_SLIVER_LIMIT,
-                            f"{tag}: slivers (q<0.3) {c['sliver_percent']:.2f} % (limit {CAD_SLIVER_LIMIT:g} %)"))
+                            f"{tag}: slivers (q<{SLIVER_QUALITY:g}) {c['sliver_percent']:.2f} % "
+                            f"(limit {CAD_SLIVER_LIMIT:g} %)"))
             continue
         if abs(ratio - JUDGED_AT.get(mesh, CRITERIA_RATIO)) > 1e-9:
             continue
@@ -372,7 +375,7 @@ def criteria(rows, memory=None, big_name=None) -> list:
                     f"{tag}: mean q {c['mean_quality']:.3f} vs Blender {b['mean_quality']:.3f} "
                     f"(need >= {b['mean_quality'] + QUALITY_MARGIN:.3f})"))
         out.append((c["sliver_percent"] <= SLIVER_LIMIT,
-                    f"{tag}: slivers (q<0.3) {c['sliver_percent']:.2f} % (limit {SLIVER_LIMIT:g} %)"))
+                    f"{tag}: slivers (q<{SLIVER_QUALITY:g}) {c['sliver_percent']:.2f} % (limit {SLIVER_LIMIT:g} %)"))
     return out
 
 
@@ -406,7 +409,7 @@ def main(argv=None) -> int:
     ap.add_argument("--ratios", type=float, nargs="+", default=[0.25, 0.1])
     ap.add_argument("--repeat", type=int, default=1,
                     help="runs per case of each method; the best time counts (default %(default)s)")
-    ap.add_argument("--line-weight", type=float, default=1e-3)
+    ap.add_argument("--line-weight", type=float, default=DEFAULT_LINE_WEIGHT)
     ap.add_argument("--samples", type=int, default=DEFAULT_SAMPLES,
                     help="area-uniform samples per surface for the distances (default %(default)s)")
     ap.add_argument("--only", nargs="+", metavar="NAME", help="only meshes whose file stem is listed")

@@ -34,7 +34,7 @@ _REPO_ROOT = Path(__file__).resolve().parent.parent
 if str(_REPO_ROOT) not in sys.path:
     sys.path.insert(0, str(_REPO_ROOT))
 
-from core import Options, prepare, quadrics, topology, vertex_quadrics  # noqa: E402
+from core import DEFAULT_LINE_WEIGHT, Options, prepare, quadrics, topology, vertex_quadrics  # noqa: E402
 from core.engine import _non_manifold_vertices  # noqa: E402  (same input locking as the engine)
 from core.geometry import face_frames  # noqa: E402
 from core.result import STOP_TOPOLOGY, STOP_TARGET  # noqa: E402
@@ -43,7 +43,7 @@ from core.validation import corner_breaks  # noqa: E402  (the engine's own turn,
 COSTS = ("paper", "per_area")
 
 
-def simplify_sequential(vertices, faces, *, target_faces, line_weight=1e-3, cost="paper",
+def simplify_sequential(vertices, faces, *, target_faces, line_weight=DEFAULT_LINE_WEIGHT, cost="paper",
                         guards=True, boundary_weight=1.0):
     """Greedy cheapest-first edge collapse down to ``target_faces``.
 
@@ -396,7 +396,7 @@ def main(argv=None) -> int:
     ap.add_argument("--only", type=lambda s: [x for x in s.split(",") if x],
                     help="comma-separated file stems, run in this order (default: every mesh)")
     ap.add_argument("--ratio", type=float, default=0.1)
-    ap.add_argument("--line-weight", type=float, default=1e-3)
+    ap.add_argument("--line-weight", type=float, default=DEFAULT_LINE_WEIGHT)
     ap.add_argument("--cost", nargs="+", choices=COSTS, default=["paper"],
                     help="ranking of the sequential reference; several give one row each")
     ap.add_argument("--guards", nargs="+", choices=("on", "off"), default=["on"],

@@ -38,3 +38,51 @@ def arm_tube(around: int = 48, rings: int = 64):
     bottom, top = idx[0][::-1], idx[-1]
     caps = [np.stack([np.full(around - 2, c[0]), c[1:-1], c[2:]], 1) for c in (bottom, top)]
     return V, np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]], *caps]).astype(np.int64)
+
+
+def grid(n: int, jitter: float = 0.0, seed: int = 0, size: float = 1.0, start: float = 0.0):
+    """A flat n x n vertex grid on [start, start + size]^2 (z = 0), each quad split into two
+    triangles along the same diagonal.
+
+    Interior vertices move in the plane by up to ``jitter`` grid spacings (uniform), so the
+    triangulation is irregular but the surface stays exactly flat.
+    Returns V (n*n, 3) f64, F (2 (n-1)^2, 3) i64, counter-clockwise seen from +z.
+    """
+    xs = np.linspace(start, start + size, n)
+    X, Y = np.meshgrid(xs, xs, indexing="xy")
+    V = np.stack([X.ravel(), Y.ravel(), np.zeros(n * n)], axis=1)
+    if jitter > 0:
+        h = size / (n - 1)
+        x, y = V[:, 0], V[:, 1]
+        inner = (x > start) & (x < start + size) & (y > start) & (y < start + size)
+        rng = np.random.default_rng(seed)
+        V[inner, :2] += rng.uniform(-jitter * h, jitter * h, (int(inner.sum()), 2))
+    r, c = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    a = (r * n + c).ravel()
+    b, d = a + 1, a + n
+    e = d + 1
+    F = np.concatenate([np.stack([a, b, e], 1), np.stack([a, e, d], 1)]).astype(np.int64)
+    return V, F
+
+
+def icosahedron():
+    """The regular icosahedron (not on the unit sphere: vertices at (0, +-1, +-phi) and
+    their cyclic turns), faces wound outward. Returns (V (12, 3) f64, F (20, 3) i64)."""
+    t = (1.0 + 5 ** 0.5) / 2
+    V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
+    F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+                  [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+                  [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int64)
+    return V, F
+
+
+def bumpy_sphere(subdivisions: int = 5, amplitude: float = 0.08):
+    """A procedural stand-in for a scanned mesh: an icosphere with smooth bumps."""
+    V, F = icosahedron()
+    for _ in range(subdivisions):
+        V, F = subdivide_midpoint(V, F)
+    V /= np.linalg.norm(V, axis=1, keepdims=True)
+    x, y, z = V.T
+    r = 1.0 + amplitude * (np.sin(5 * x) * np.sin(4 * y) * np.sin(6 * z) + 0.5 * np.sin(11 * x + 3 * z))
+    return V * r[:, None], F

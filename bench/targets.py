@@ -64,8 +64,8 @@ def main(argv=None) -> int:
         seconds = time.perf_counter() - t0
         wv, wf, _ = welded(v, f)
         dec = decimate(wv, wf, target / len(f))
-        print(f"| {name} | {len(f):,} | {target} | {len(r.faces)} | {r.stats.stop_reason} | "
-              f"{r.stats.relaxation_step} | {seconds:.3f} | {len(dec.faces)} | {dec.seconds:.3f} |", flush=True)
+        print(tables.row(name, f"{len(f):,}", target, len(r.faces), r.stats.stop_reason,
+                         r.stats.relaxation_step, f"{seconds:.3f}", len(dec.faces), f"{dec.seconds:.3f}"), flush=True)
     return 0
 
 

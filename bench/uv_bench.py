@@ -23,6 +23,7 @@ import tables
 import numpy as np
 
 from blender_reference import decimate, load_mesh
+from core import DEFAULT_LINE_WEIGHT
 
 UV_TOL = 1e-5  # UV values closer than this are the same (Blender stores UVs as float32)
 REF_STRETCH_LIMIT = 100.0  # see uv_metrics: input faces this distorted are no local reference
@@ -205,12 +206,12 @@ def markdown_table(rows) -> str:
                            "flips: island", "flips: nearest input", "flips: face_origin", "UV-degenerate",
                            "stretch mean / max", "local stretch mean / max")]
     for r in rows:
-        lines.append(
-            f"| {r['mesh']} | {r['ratio']:g} | {r['method']} | {r['faces']:,} | {_fmt(r['seconds'], '.3f')} "
-            f"| {r['seam_edges']:,} | {_fmt(r['seam_length_percent'], '.1f')} | {r['islands']:,} "
-            f"| {r['flips_island']} | {r['flips_nearest']} | {_fmt(r['flips_source'], 'd')} "
-            f"| {r['uv_degenerate']} | {_fmt(r['stretch_mean'], '.2f')} / {_fmt(r['stretch_max'], '.1f')} "
-            f"| {_fmt(r['local_stretch_mean'], '.3f')} / {_fmt(r['local_stretch_max'], '.1f')} |")
+        lines.append(tables.row(
+            r['mesh'], f"{r['ratio']:g}", r['method'], f"{r['faces']:,}", _fmt(r['seconds'], '.3f'),
+            f"{r['seam_edges']:,}", _fmt(r['seam_length_percent'], '.1f'), f"{r['islands']:,}",
+            r['flips_island'], r['flips_nearest'], _fmt(r['flips_source'], 'd'),
+            r['uv_degenerate'], f"{_fmt(r['stretch_mean'], '.2f')} / {_fmt(r['stretch_max'], '.1f')}",
+            f"{_fmt(r['local_stretch_mean'], '.3f')} / {_fmt(r['local_stretch_max'], '.1f')}"))
     return "\n".join(lines)
 
 
@@ -220,7 +221,7 @@ def main(argv=None) -> int:
     ap.add_argument("--names", nargs="+", default=["spot.obj", "beast.obj"],
                     help="UV-mapped mesh files in --meshes (default: %(default)s)")
     ap.add_argument("--ratios", type=float, nargs="+", default=[0.25, 0.1])
-    ap.add_argument("--line-weight", type=float, default=1e-3)
+    ap.add_argument("--line-weight", type=float, default=DEFAULT_LINE_WEIGHT)
     ap.add_argument("--json", type=Path)
     args = ap.parse_args(argv)
     try:

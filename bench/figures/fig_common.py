@@ -1,4 +1,4 @@
-"""Shared pieces of the figure scripts (bench/figures/fig_*.py): meshes they build, plotting, output.
+"""Shared pieces of the figure scripts (bench/figures/fig_*.py): table cells, plotting, output.
 
 Import this first in a figure script: it imports ``_bootstrap`` (repository root on
 sys.path, Blender user dirs isolated) before anything can import bpy, and selects
@@ -10,8 +10,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-# bench/, for _bootstrap and the scripts the figures share with the benchmarks (a figure
-# script runs with only its own folder on sys.path).
+# bench/, for _bootstrap and the scripts the figures share with the benchmarks (tables,
+# synthetic_meshes, ...; a figure script runs with only its own folder on sys.path).
 _BENCH_DIR = str(Path(__file__).resolve().parent.parent)
 if _BENCH_DIR not in sys.path:
     sys.path.insert(0, _BENCH_DIR)
@@ -24,7 +24,6 @@ except ImportError:  # a dev extra (requirements-dev.txt), never an add-on depen
     sys.exit("matplotlib is needed for the figures: .venv/bin/python -m pip install matplotlib")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
 REPO_ROOT = _bootstrap.REPO_ROOT
@@ -37,28 +36,11 @@ def log(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-def grid(n: int, jitter: float = 0.0, seed: int = 0, size: float = 1.0):
-    """A flat n x n vertex grid on [0, size]^2 (z = 0), each quad split into two triangles.
-
-    Interior vertices move in the plane by up to ``jitter`` grid spacings (uniform), so the
-    triangulation is irregular but the surface stays exactly flat.
-    Returns V (n*n, 3) f64, F (2 (n-1)^2, 3) i64, counter-clockwise seen from +z.
-    """
-    xs = np.linspace(0.0, size, n)
-    X, Y = np.meshgrid(xs, xs, indexing="xy")
-    V = np.stack([X.ravel(), Y.ravel(), np.zeros(n * n)], axis=1)
-    if jitter > 0:
-        h = size / (n - 1)
-        x, y = V[:, 0], V[:, 1]
-        inner = (x > 0) & (x < size) & (y > 0) & (y < size)
-        rng = np.random.default_rng(seed)
-        V[inner, :2] += rng.uniform(-jitter * h, jitter * h, (int(inner.sum()), 2))
-    r, c = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
-    a = (r * n + c).ravel()
-    b, d = a + 1, a + n
-    e = d + 1
-    F = np.concatenate([np.stack([a, b, e], 1), np.stack([a, e, d], 1)]).astype(np.int64)
-    return V, F
+def report_cells(report) -> tuple:
+    """A mesh report's table cells: mean q, min q, slivers %, Hausdorff %, mean %
+    (the columns of fig_pareto's and fig_weight_sweep's tables)."""
+    return (f"{report['mean_quality']:.3f}", f"{report['min_quality']:.3f}", f"{report['sliver_percent']:.2f}",
+            f"{report['hausdorff_percent']:.4f}", f"{report['mean_percent']:.5f}")
 
 
 def plot_mesh_2d(ax, V, F, title: str, quality=None, linewidth: float = 0.3):
@@ -99,21 +81,3 @@ def find_mesh(stem: str):
         if p.exists():
             return p
     return None
-
-
-def bumpy_sphere(subdivisions: int = 5, amplitude: float = 0.08):
-    """A procedural stand-in for a scanned mesh: an icosphere with smooth bumps (pure NumPy)."""
-    t = (1.0 + 5 ** 0.5) / 2
-    V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
-    F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-                  [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-                  [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int64)
-    from synthetic_meshes import subdivide_midpoint
-
-    for _ in range(subdivisions):
-        V, F = subdivide_midpoint(V, F)
-    V /= np.linalg.norm(V, axis=1, keepdims=True)
-    x, y, z = V.T
-    r = 1.0 + amplitude * (np.sin(5 * x) * np.sin(4 * y) * np.sin(6 * z) + 0.5 * np.sin(11 * x + 3 * z))
-    return V * r[:, None], F

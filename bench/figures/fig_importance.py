@@ -25,6 +25,7 @@ from matplotlib.patches import Circle
 import core
 from addon.importance import DEFAULT_STRENGTH, controls
 from blender_reference import mesh_arrays, mesh_from_arrays, stdout_to_stderr
+from synthetic_meshes import grid
 
 N = 121  # vertices per side: 120 x 120 quads
 RATIO = 0.1
@@ -70,7 +71,7 @@ def densities(V, F):
 
 
 def main() -> None:
-    V, F = fc.grid(N)
+    V, F = grid(N)
     g = (np.linalg.norm(V[:, :2] - CENTER, axis=1) <= RADIUS).astype(np.float64)
     target = int(round(RATIO * len(F)))
     runs = []
@@ -80,8 +81,8 @@ def main() -> None:
         runs.append(dict(label=label, V=res.vertices, F=res.faces, stop=res.stats.stop_reason))
 
     for strength, what in ((0.1, "subtle"), (DEFAULT_STRENGTH, "default"), (1.0, "top")):
-        ours(f"ours, importance strength {strength:g} ({what})", **controls(g, 1e-3, strength))
-    ours("hard lock of the painted vertices", line_weight=1e-3, locked=g > 0)
+        ours(f"ours, importance strength {strength:g} ({what})", **controls(g, core.DEFAULT_LINE_WEIGHT, strength))
+    ours("hard lock of the painted vertices", line_weight=core.DEFAULT_LINE_WEIGHT, locked=g > 0)
     for invert in (False, True):
         v, f = decimate_with_group(V, F, g, RATIO, invert)
         stop = "target_reached" if abs(len(f) - target) <= 2 else "stopped early"
@@ -118,11 +119,12 @@ def main() -> None:
           f"({lock['v_in']:,} kept by core's locked=).")
     print(tables.header(
         "method", "triangles", "stop", "vertices", "in disc", "density in", "density out", "in/out", "mean q"))
-    print(f"| input | {len(F):,} | - | {N * N:,} | {v_in0:,} | {d_in0:,.0f} | {d_out0:,.0f} | "
-          f"{d_in0 / d_out0:.2f} | - |")
+    print(tables.row("input", f"{len(F):,}", "-", f"{N * N:,}", f"{v_in0:,}", f"{d_in0:,.0f}", f"{d_out0:,.0f}",
+                     f"{d_in0 / d_out0:.2f}", "-"))
     for r in runs:
-        print(f"| {r['label']} | {len(r['F']):,} | {r['stop']} | {r['v_all']:,} | {r['v_in']:,} | "
-              f"{r['d_in']:,.0f} | {r['d_out']:,.0f} | {r['d_in'] / r['d_out']:.2f} | {r['mean_quality']:.3f} |")
+        print(tables.row(r['label'], f"{len(r['F']):,}", r['stop'], f"{r['v_all']:,}", f"{r['v_in']:,}",
+                         f"{r['d_in']:,.0f}", f"{r['d_out']:,.0f}", f"{r['d_in'] / r['d_out']:.2f}",
+                         f"{r['mean_quality']:.3f}"))
 
 
 if __name__ == "__main__":

@@ -119,11 +119,10 @@ def main() -> None:
                      f"Blender's {series['blender'][0]['mean_quality']:.3f}")
     print(sentence + ".")
     print(tables.header(
-        "method", "setting", "faces", "mean q", "min q", "q<0.3 %", "Hausdorff %", "mean %", "s"))
+        "method", "setting", "faces", "mean q", "min q", f"q<{core.SLIVER_QUALITY:g} %", "Hausdorff %", "mean %", "s"))
     for s, rows in series.items():
         for r in rows:
-            print(f"| {style[s][0]} | {r['label']} | {r['faces']} | {r['mean_quality']:.3f} | {r['min_quality']:.3f} | "
-                  f"{r['sliver_percent']:.2f} | {r['hausdorff_percent']:.4f} | {r['mean_percent']:.5f} | {r['time']:.2f} |")
+            print(tables.row(style[s][0], r['label'], r['faces'], *fc.report_cells(r), f"{r['time']:.2f}"))
     for note in notes:
         print(f"Note: {note}.")
 

@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
+from synthetic_meshes import grid
 
 N = 100
 JITTER = 0.3
@@ -30,7 +31,7 @@ def area_cv(V, F) -> float:
 
 
 def main() -> None:
-    V, F = fc.grid(N, jitter=JITTER, seed=1)
+    V, F = grid(N, jitter=JITTER, seed=1)
     fig, axes = plt.subplots(1, len(WEIGHTS), figsize=(10, 5.0), layout="constrained")
     rows = []
     for ax, w in zip(axes, WEIGHTS):
@@ -52,7 +53,7 @@ def main() -> None:
           f"(w = {b['w']:g}) gives evenly sized, well-shaped triangles where plain quadrics "
           f"(w = 0) leave an arbitrary triangulation: mean q {a['mean_quality']:.3f} -> {b['mean_quality']:.3f}, "
           f"min q {a['min_quality']:.3f} -> {b['min_quality']:.3f}.")
-    print(tables.header("w", "faces", "stop", "mean q", "min q", "q<0.3 %", "area CV"))
+    print(tables.header("w", "faces", "stop", "mean q", "min q", f"q<{core.SLIVER_QUALITY:g} %", "area CV"))
     for r in rows:
         print(tables.row(f"{r['w']:g}", r['faces'], r['stop'], f"{r['mean_quality']:.3f}", f"{r['min_quality']:.3f}",
                          f"{r['sliver_percent']:.2f}", f"{r['cv']:.3f}"))

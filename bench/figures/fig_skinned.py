@@ -240,8 +240,8 @@ def main() -> None:
         hs = [posed[p][label][2]["hausdorff_percent"] for p in POSES]
         ms = [posed[p][label][2]["mean_percent"] for p in POSES]
         r = rest[label][2]
-        print(f"| {label} | {len(rest[label][1]):,} | {r['hausdorff_percent']:.4f} | {r['mean_percent']:.5f} | "
-              f"{np.mean(hs):.4f} ({max(hs):.4f}) | {np.mean(ms):.5f} ({max(ms):.5f}) |")
+        print(tables.row(label, f"{len(rest[label][1]):,}", f"{r['hausdorff_percent']:.4f}", f"{r['mean_percent']:.5f}",
+                         f"{np.mean(hs):.4f} ({max(hs):.4f})", f"{np.mean(ms):.5f} ({max(ms):.5f})"))
     print("Posing adds to the mean deviation (mean over poses minus rest): " + ", ".join(
         f"{label} +{avg(label, 'mean_percent') - rest[label][2]['mean_percent']:.4f} %" for label in labels) + ".")
     wins = {label: sum(posed[p][label][2]["mean_percent"] < posed[p][blender][2]["mean_percent"] for p in POSES)
