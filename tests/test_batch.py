@@ -1,0 +1,138 @@
+"""The Dask batch runner (addon/headless/dask_tasks.py) and the up-to-date stamps (addon/headless/freshness.py),
+with a stand-in child process; tests/test_cli_batch.py runs the real command line."""
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+HEADLESS = Path(__file__).resolve().parent.parent / "addon" / "headless"
+
+
+def _module(name: str):
+    # Both modules are bpy-free and import nothing of ours: loaded from their files,
+    # without the add-on package around them.
+    spec = importlib.util.spec_from_file_location(f"lqlod_test_{name}", HEADLESS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+batch = _module("dask_tasks")
+freshness = _module("freshness")
+
+pytest.importorskip("distributed", reason="dask[distributed] is a test dependency (requirements-dev.txt)")
+
+FAKE_CHILD = Path(__file__).with_name("fake_asset_child.py")
+
+
+def asset(behaviour: str) -> "batch.Asset":
+    return batch.Asset(behaviour, behaviour, [sys.executable, str(FAKE_CHILD), behaviour])
+
+
+def test_a_crash_fails_only_its_asset_and_is_retried(tmp_path):
+    flaky = tmp_path / "crashed-once"
+    assets = [asset("a"), asset("bad"), asset("crash"), asset(f"flaky:{flaky}"), asset("b")]
+    streamed = []
+    entries = batch.run(assets, jobs=2, retries=2, on_result=streamed.append)
+
+    assert [e["label"] for e in entries] == [a.label for a in assets], "entries come back in input order"
+    by_label = {e["label"]: e for e in entries}
+    assert by_label["a"]["ok"] and by_label["b"]["ok"]
+    assert not by_label["bad"]["ok"] and by_label["bad"]["error"] == "no mesh objects in bad"
+    crash = by_label["crash"]
+    assert not crash["ok"] and "SIGABRT" in crash["error"] and "3 attempts" in crash["error"], crash["error"]
+    assert flaky.exists() and by_label[f"flaky:{flaky}"]["ok"], "a crash that does not repeat is retried"
+    assert sorted(e["label"] for e in streamed) == sorted(a.label for a in assets), "every asset streamed once"
+
+
+def test_clean_failures_are_not_retried(tmp_path):
+    counter = tmp_path / "runs"
+    # "bad" writes its report with ok False: running it again would say the same.
+    child = tmp_path / "counting_child.py"
+    child.write_text(f"import runpy, sys\nopen({str(counter)!r}, 'a').write('x')\n"
+                     f"sys.argv = [{str(FAKE_CHILD)!r}] + sys.argv[1:]\nrunpy.run_path({str(FAKE_CHILD)!r}, run_name='__main__')\n")
+    entries = batch.run([batch.Asset("bad", "bad", [sys.executable, str(child), "bad"])], jobs=1, retries=2)
+    assert not entries[0]["ok"]
+    assert counter.read_text() == "x", f"ran {len(counter.read_text())} times, expected once"
+
+
+def test_no_retries_means_one_attempt():
+    entries = batch.run([asset("crash")], jobs=1, retries=0)
+    assert not entries[0]["ok"] and "attempts" not in entries[0]["error"], entries[0]["error"]
+
+
+def _dask_cli(*args):
+    return [sys.executable, "-m", "distributed.cli." + args[0], *args[1:]]
+
+
+def test_a_separately_started_scheduler_and_worker_run_the_batch(tmp_path):
+    """The cluster path: `dask scheduler` and `dask worker` as their own processes, the
+    batch submitted to the scheduler's address; the worker has no copy of our package."""
+    scheduler_file = tmp_path / "scheduler.json"
+    env = {**os.environ, "PYTHONPATH": ""}
+    procs = [subprocess.Popen(_dask_cli("dask_scheduler", "--scheduler-file", str(scheduler_file),
+                                        "--host", "127.0.0.1", "--port", "0", "--no-dashboard"),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env)]
+    try:
+        deadline = time.monotonic() + 60
+        while not scheduler_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        address = json.loads(scheduler_file.read_text())["address"]
+        procs.append(subprocess.Popen(_dask_cli("dask_worker", address, "--nthreads", "1", "--no-dashboard"),
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env))
+        entries = batch.run([asset("a"), asset("bad"), asset("crash")], scheduler=address, retries=1)
+    finally:
+        for proc in procs:
+            proc.terminate()
+        for proc in procs:
+            proc.wait(timeout=30)
+    assert [e["ok"] for e in entries] == [True, False, False], entries
+    assert "SIGABRT" in entries[2]["error"] and "2 attempts" in entries[2]["error"], entries[2]["error"]
+
+
+# ----------------------------------------------------------------------------- stamps
+
+
+def test_stamp_round_trip_and_what_invalidates_it(tmp_path):
+    source = tmp_path / "rock.obj"
+    source.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    outputs = [tmp_path / "out" / "rock_LODs.glb", tmp_path / "out" / "rock_LODs.obj"]
+    outputs[0].parent.mkdir()
+    key = freshness.asset_key(source, {"ratios": [0.5]})
+    assert not freshness.up_to_date(outputs, key), "nothing written yet"
+    for out in outputs:
+        out.write_bytes(b"lod")
+    assert not freshness.up_to_date(outputs, key), "outputs without a stamp may be from an interrupted run"
+    freshness.mark_done(outputs, key)
+    assert freshness.up_to_date(outputs, key)
+
+    assert freshness.asset_key(source, {"ratios": [0.25]}) != key, "other settings, other key"
+    outputs[1].unlink()
+    assert not freshness.up_to_date(outputs, key), "a missing output is redone"
+    outputs[1].write_bytes(b"lod")
+    source.write_text("v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n")
+    assert freshness.asset_key(source, {"ratios": [0.5]}) != key, "other content, other key"
+    freshness.forget(outputs)
+    assert not freshness.up_to_date(outputs, key)
+
+
+def test_companion_files_count_in_the_key(tmp_path):
+    gltf = tmp_path / "crate.gltf"
+    (tmp_path / "crate.bin").write_bytes(b"\0" * 12)
+    gltf.write_text(json.dumps({"asset": {"version": "2.0"}, "buffers": [{"uri": "crate.bin", "byteLength": 12}],
+                                "images": [{"uri": "data:image/png;base64,AAAA"}]}))
+    assert freshness.companion_files(gltf) == [(tmp_path / "crate.bin").resolve()]
+    key = freshness.asset_key(gltf, {})
+    (tmp_path / "crate.bin").write_bytes(b"\1" * 12)
+    assert freshness.asset_key(gltf, {}) != key, "a changed buffer changes the key"
+
+    obj = tmp_path / "rock.obj"
+    (tmp_path / "rock.mtl").write_text("newmtl stone\n")
+    obj.write_text("mtllib rock.mtl\nv 0 0 0\n")
+    assert freshness.companion_files(obj) == [(tmp_path / "rock.mtl").resolve()]
