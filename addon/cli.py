@@ -32,7 +32,7 @@ def main(argv=None, prog: Optional[str] = None) -> int:
     import time
     import traceback
 
-    from .headless import arguments, inputs, report
+    from .headless import arguments, dask_tasks, freshness, inputs, report
     from .headless.console import Console
     from .headless.errors import UsageError
 
@@ -57,18 +57,41 @@ def main(argv=None, prog: Optional[str] = None) -> int:
             console.error(message)
         return EXIT_USAGE
     console.quiet = args.quiet
+    # Several inputs at once, or a cluster: Dask; checked now, before anything is done.
+    distributed = args.scheduler is not None or (args.jobs > 1 and len(jobs) > 1)
+    if distributed and not dask_tasks.dask_available():
+        console.error(dask_tasks.DASK_MISSING)
+        return EXIT_USAGE
     t0 = time.perf_counter()
+    stream = report.StreamedReport(Path(args.report)) if report.is_streamed(args.report) else None
+    on_result = stream.add if stream is not None else (lambda entry: None)
     try:
-        if args.jobs > 1 and len(jobs) > 1:
-            from .headless.process_pool import run_parallel
+        if distributed:
+            from .headless.batch import run_batch
+            from .headless.one_input import skipped_entry, up_to_date_key
 
-            files = run_parallel(jobs, args, parser, console)
+            # Up-to-date inputs are skipped here, before a Blender process is started for them.
+            files = [None] * len(jobs)
+            todo = []
+            for i, job in enumerate(jobs):
+                key = up_to_date_key(job, args)
+                if key is not None and freshness.up_to_date(job.outputs, key):
+                    files[i] = skipped_entry(job)
+                    on_result(files[i])
+                else:
+                    todo.append(i)
+            if todo:
+                done = run_batch([jobs[i] for i in todo], args, parser, console, on_result)
+                for i, entry in zip(todo, done):
+                    files[i] = entry
         else:
             from .headless.one_input import run_serial
 
-            files = run_serial(jobs, args, console)
+            files = run_serial(jobs, args, console, on_result)
         result = report.make_report(COMMAND_ID, args, files, time.perf_counter() - t0)
-        if args.report:
+        if stream is not None:
+            stream.finish(result)
+        elif args.report:
             report.write_json_atomically(Path(args.report), result)
         report.print_results(result)
     except KeyboardInterrupt:
@@ -79,6 +102,9 @@ def main(argv=None, prog: Optional[str] = None) -> int:
             traceback.print_exc()
         console.error(f"unexpected {type(ex).__name__}: {ex}" + ("" if args.debug else " (--debug shows details)"))
         return EXIT_FAILED
+    finally:
+        if stream is not None:
+            stream.close()
     return EXIT_OK if result["ok"] else EXIT_FAILED
 
 

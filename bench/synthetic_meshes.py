@@ -86,3 +86,22 @@ def bumpy_sphere(subdivisions: int = 5, amplitude: float = 0.08):
     x, y, z = V.T
     r = 1.0 + amplitude * (np.sin(5 * x) * np.sin(4 * y) * np.sin(6 * z) + 0.5 * np.sin(11 * x + 3 * z))
     return V * r[:, None], F
+
+
+def uv_sphere(rings: int):
+    """A closed unit UV sphere, faces wound outward: ``rings`` bands from pole to pole,
+    ``2 * rings`` segments. Returns (vertices (n, 3) float64, faces (4 * rings * (rings - 1), 3) int64)."""
+    theta = np.linspace(0.0, np.pi, rings + 1)[1:-1]
+    phi = np.linspace(0.0, 2.0 * np.pi, 2 * rings, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    vertices = np.c_[(np.sin(t) * np.cos(p)).ravel(), (np.sin(t) * np.sin(p)).ravel(), np.cos(t).ravel()]
+    vertices = np.r_[vertices, [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]]
+    bands, around = t.shape
+    r, c = np.meshgrid(np.arange(bands - 1), np.arange(around), indexing="ij")
+    a, b = (r * around + c).ravel(), (r * around + (c + 1) % around).ravel()
+    top, bottom = len(vertices) - 2, len(vertices) - 1
+    first, last = np.arange(around), (bands - 1) * around + np.arange(around)
+    faces = np.r_[np.c_[a, a + around, b + around], np.c_[a, b + around, b],
+                  np.c_[np.full(around, top), first, (first + 1) % around],
+                  np.c_[np.full(around, bottom), (bands - 1) * around + (first + 1) % around, last]]
+    return vertices, faces.astype(np.int64)

@@ -29,6 +29,14 @@ def run_cli(argv, cwd, user_dir, timeout=600):
     return proc.returncode, proc.stdout, proc.stderr
 
 
+STAMP_SUFFIX = ".lqlod.json"  # the up-to-date stamp beside a run's outputs (addon/headless/freshness.py)
+
+
+def lod_files(folder):
+    """The files a run wrote into ``folder``, without its up-to-date stamps."""
+    return [p for p in folder.iterdir() if not p.name.endswith(STAMP_SUFFIX)]
+
+
 def table_rows(stdout):
     """{object name: [cells]} from the table on stdout."""
     rows = {}
@@ -77,8 +85,8 @@ def sample(work):
 
 @pytest.fixture(scope="module")
 def reimported(work, batches, sample):
-    paths = sorted(str(p) for run in batches.values() for p in run["out"].iterdir())
-    paths += sorted(str(p) for p in sample["out"].iterdir())
+    paths = sorted(str(p) for run in batches.values() for p in lod_files(run["out"]))
+    paths += sorted(str(p) for p in lod_files(sample["out"]))
     return run_scenario("cli_reimport", {"paths": paths}, user_dir=work / "user", install=False)
 
 
@@ -92,7 +100,7 @@ def test_batch_with_a_broken_file_finishes_the_others_and_fails(batches):
         assert len(failed) == 1 and "broken.glb: could not import" in failed[0] and "Bad GLB" in failed[0], \
             f"expected one FAILED line for broken.glb (Bad GLB), got {failed}"
         assert "3 of 4 inputs done" in run["stdout"], run["stdout"][-3000:]
-        written = sorted(p.name for p in run["out"].iterdir())
+        written = sorted(p.name for p in lod_files(run["out"]))
         assert written == sorted(f"{stem}_LODs.{fmt}" for stem in ("a", "rig", "scene") for fmt in FORMATS), written
         report = run["report"]
         assert report["ok"] is False
@@ -186,8 +194,8 @@ def test_report_matches_the_table_and_the_settings(batches):
 
 def test_jobs_2_gives_the_same_outputs_as_jobs_1(batches, reimported):
     one, two = batches[1], batches[2]
-    names = sorted(p.name for p in one["out"].iterdir())
-    assert names == sorted(p.name for p in two["out"].iterdir())
+    names = sorted(p.name for p in lod_files(one["out"]))
+    assert names == sorted(p.name for p in lod_files(two["out"]))
     for name in names:
         if name.endswith(".glb"):  # the exporter is deterministic: byte for byte
             assert (one["out"] / name).read_bytes() == (two["out"] / name).read_bytes(), name
@@ -205,7 +213,7 @@ def test_jobs_2_gives_the_same_outputs_as_jobs_1(batches, reimported):
 def test_sample_demo_writes_blend_and_glb_and_prints_the_table(sample, reimported):
     assert sample["code"] == 0, sample["stderr"][-3000:]
     out = sample["out"]
-    assert sorted(p.name for p in out.iterdir()) == ["sample_LODs.blend", "sample_LODs.glb"]
+    assert sorted(p.name for p in lod_files(out)) == ["sample_LODs.blend", "sample_LODs.glb"]
     rows = table_rows(sample["stdout"])
     chains = {base: [f"{base}_LOD{k}" for k in range(4)] for base in ("Monkey", "Character")}
     assert sorted(rows) == sorted(n for chain in chains.values() for n in chain)
@@ -226,7 +234,9 @@ def test_sample_demo_writes_blend_and_glb_and_prints_the_table(sample, reimporte
 
 def test_no_temporary_files_left(batches, sample):
     for folder in [run["out"] for run in batches.values()] + [sample["out"]]:
-        assert not [p.name for p in folder.iterdir() if p.name.startswith(".")], folder
+        hidden = sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+        stamps = [name for name in hidden if name.endswith(STAMP_SUFFIX)]
+        assert hidden == stamps, f"expected only up-to-date stamps among hidden files in {folder}, got {hidden}"
 
 
 def test_script_mode_takes_the_options_after_double_dash(work):

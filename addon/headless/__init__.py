@@ -13,6 +13,8 @@ and inputs have been checked, so a mistyped option or a missing file fails at on
     scene_files * an input into the scene, the scene out to a file atomically
     sources     * which objects get LODs, with which importance
     one_input   * one input: load, LodJob (addon/job.py), LOD0 names and group, write
-    report        the JSON report, the table and the notes
-    process_pool* --jobs N: one Blender process per input, N at a time
+    report        the JSON report (or a .jsonl line per input), the table and the notes
+    freshness     is an input's output up to date? (content, options and tool version)
+    dask_tasks    Dask: one task per input, each its own process; retries; local or a cluster
+    batch       * --jobs N / --scheduler: the inputs as tasks running this command line
 """

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from pathlib import Path
 from typing import Optional
@@ -17,6 +18,12 @@ from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
 from .lod_settings import DEFAULT_RATIOS
 
+SCHEDULER_ENV = "LQLOD_SCHEDULER"  # the Dask scheduler to use when --scheduler is not given
+DEFAULT_RETRIES = 2
+# Options that say how to run, not what to make: they are not part of an input's
+# up-to-date key, and the batch gives its children its own values of them.
+RUN_OPTIONS = ("input", "sample", "output", "output_dir", "format", "report", "jobs", "scheduler",
+               "retries", "force", "quiet", "debug")
 SAMPLE_IMPORTANCE_GROUP = "LOD_Importance"  # sample.IMPORTANCE_GROUP (that module needs bpy)
 
 EXAMPLES = """\
@@ -38,6 +45,11 @@ examples:
   # detail at the joints (importance from the armature)
   %(prog)s --input assets/ --jobs 2 --from-armature --output-dir lods --format glb
 
+  # an asset library on a Dask cluster (workers started with `dask worker ADDRESS`),
+  # a line of JSON per asset; run it again after an interruption to finish the rest
+  %(prog)s --input 'library/**/*.fbx' --scheduler tcp://farm:8786 \\
+      --output-dir /shared/lods --report /shared/lods/report.jsonl
+
   # the same as a script, for installations without the registered command
   blender -b scene.blend -P <extension>/addon/cli.py -- --ratios 0.5 --output out.blend
 
@@ -54,6 +66,10 @@ importance, with a note after the table and in the report.
 exit status: 0 done, 1 some inputs failed (the others were still done), 2 nothing done
 (bad options or inputs), 130 interrupted. Outputs are written to a temporary file and
 renamed, so a failed or interrupted run never leaves a half-written file.
+
+reruns: an input whose outputs were all written by an earlier run with the same input
+content, options and tool version is skipped (a stamp .<output>.lqlod.json sits beside
+its first output); --force remakes it.
 """
 
 
@@ -80,6 +96,16 @@ def _positive_int(text):
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def _non_negative_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
     return value
 
 
@@ -171,13 +197,26 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help='parent each chain to an Empty with fbx_type = "LodGroup" (Unreal)')
     g.add_argument("--report", metavar="FILE.json",
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
-                        "triangle quality")
+                        "triangle quality; a name ending in .jsonl gets one line per input as "
+                        "each finishes, then a summary line (nothing is lost if the run stops)")
     g.add_argument("--no-measure", action="store_true",
                    help="skip the deviation measurement (faster; quality is still reported)")
 
     g = p.add_argument_group("running")
     g.add_argument("--jobs", type=_positive_int, default=1, metavar="N",
-                   help="process N input files at a time, each in its own Blender process (default 1)")
+                   help="process N input files at a time, each in its own Blender process, on an "
+                        "in-process Dask cluster (needs dask[distributed]; default 1: one after "
+                        "the other in this process)")
+    g.add_argument("--scheduler", metavar="ADDRESS", default=os.environ.get(SCHEDULER_ENV) or None,
+                   help="run the inputs on the Dask cluster of this scheduler, e.g. "
+                        f"tcp://host:8786 (default: ${SCHEDULER_ENV} if set); workers need the "
+                        "inputs, outputs and this tool at the same paths")
+    g.add_argument("--retries", type=_non_negative_int, default=DEFAULT_RETRIES, metavar="N",
+                   help="run an input again up to N times if its Blender process crashes or is "
+                        f"killed (default {DEFAULT_RETRIES}; inputs that fail cleanly are not retried)")
+    g.add_argument("--force", action="store_true",
+                   help="remake every input's LODs, also those whose outputs are up to date "
+                        "(same input content, options and tool version)")
     g.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     g.add_argument("--debug", action="store_true",
                    help="show tracebacks and the importers' and exporters' own output")

@@ -19,6 +19,12 @@ class Console:
         if not self.quiet:
             self._write(message)
 
+    def redraw(self, message: str) -> None:
+        """Replace the current terminal line (a progress bar); "" clears it."""
+        with self.lock:
+            sys.stderr.write("\r\x1b[2K" + message + ("" if message else "\r"))
+            sys.stderr.flush()
+
     def error(self, message: str) -> None:
         self._write(f"error: {message}")
 

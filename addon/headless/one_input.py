@@ -12,9 +12,10 @@ import time
 import traceback
 
 from ..settings import LodError
-from . import report, scene_files, sources
+from . import freshness, report, scene_files, sources
 from .console import Console
 from .errors import InputError
+from .arguments import RUN_OPTIONS
 from .inputs import InputJob
 from .lod_settings import settings_from_args
 
@@ -62,6 +63,10 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
     t0 = time.perf_counter()
     entry = {"input": str(job.path) if job.path else job.label, "label": job.label, "ok": False,
              "error": None, "outputs": [], "objects": [], "warnings": [], "seconds": 0.0}
+    key = up_to_date_key(job, args)
+    if key is not None and freshness.up_to_date(job.outputs, key):
+        console.progress(f"[{job.label}] up to date, skipped")
+        return skipped_entry(job)
     try:
         import bpy
 
@@ -76,10 +81,14 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         entries = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group)
         entry["objects"] = entries
+        if job.outputs:
+            freshness.forget(job.outputs)  # an interrupted rewrite is never taken for done
         for out in job.outputs:
             console.progress(f"[{job.label}] writing {out}")
             scene_files.write_atomically(out, args.debug)
             entry["outputs"].append(str(out))
+        if key is not None:
+            freshness.mark_done(job.outputs, key)
         entry["ok"] = True
     except (InputError, LodError) as ex:
         entry["error"] = str(ex)
@@ -93,8 +102,31 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
     return entry
 
 
-def run_serial(jobs: list, args, console: Console) -> list:
-    """Every input in this process, one after the other; their report entries."""
+def up_to_date_key(job: InputJob, args):
+    """The key of ``job``'s outputs (freshness.py), or None when there is nothing to keep
+    up to date (no outputs, or --force)."""
+    if not job.outputs or args.force:
+        return None
+    options = {name: value for name, value in sorted(vars(args).items()) if name not in RUN_OPTIONS}
+    options["input_kind"] = job.kind
+    import bpy  # Blender's importers and exporters shape the outputs too
+
+    options["blender"] = bpy.app.version_string
+    try:
+        return freshness.asset_key(job.path if job.kind != "sample" else None, options)
+    except OSError:
+        return None  # loading the input says what is wrong with it
+
+
+def skipped_entry(job: InputJob) -> dict:
+    return {"input": str(job.path) if job.path else job.label, "label": job.label, "ok": True,
+            "skipped": True, "error": None, "outputs": [str(o) for o in job.outputs], "objects": [],
+            "warnings": [], "seconds": 0.0}
+
+
+def run_serial(jobs: list, args, console: Console, on_result=None) -> list:
+    """Every input in this process, one after the other; their report entries
+    (``on_result(entry)`` as each ends)."""
     files = []
     t0 = time.perf_counter()
     for i, job in enumerate(jobs):
@@ -106,4 +138,6 @@ def run_serial(jobs: list, args, console: Console) -> list:
         if not entry["ok"]:
             console.error(f"{job.label}: {entry['error']}")
         files.append(entry)
+        if on_result is not None:
+            on_result(entry)
     return files

@@ -57,9 +57,38 @@ def make_report(tool: str, args, files: list, seconds: float) -> dict:
         "settings": settings_summary(args),
         "files": files,
         "failures": failures,
+        "skipped": sum(1 for f in files if f.get("skipped")),
         "ok": not failures,
         "seconds": seconds,
     }
+
+
+def is_streamed(path) -> bool:
+    """--report FILE.jsonl: a line per input as it ends, then the summary."""
+    return path is not None and Path(path).suffix.lower() == ".jsonl"
+
+
+class StreamedReport:
+    """The .jsonl report: {"record": "input", ...entry} as each input ends (flushed, so a
+    crash of the whole run loses nothing written so far), then {"record": "summary", ...}:
+    the JSON report without its "files"."""
+
+    def __init__(self, path: Path):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.file = open(path, "w", encoding="utf-8")
+
+    def add(self, entry: dict) -> None:
+        self.file.write(json.dumps({"record": "input", **entry}) + "\n")
+        self.file.flush()
+
+    def finish(self, result: dict) -> None:
+        summary = {key: value for key, value in result.items() if key != "files"}
+        self.file.write(json.dumps({"record": "summary", **summary}) + "\n")
+        self.close()
+
+    def close(self) -> None:
+        if not self.file.closed:
+            self.file.close()
 
 
 def _fmt(value, spec, empty="-"):
@@ -107,8 +136,10 @@ def print_results(report: dict) -> None:
                 print(f"note: {f['label']}: {obj['object']}: {warning}")
     n = len(report["files"])
     failed = report["failures"]
-    written = [o for f in report["files"] for o in f["outputs"]]
+    skipped = report.get("skipped", 0)
+    written = [o for f in report["files"] if not f.get("skipped") for o in f["outputs"]]
     print(f"{n - len(failed)} of {n} input{'s' if n != 1 else ''} done in {report['seconds']:.1f} s"
+          + (f", {skipped} of them up to date (skipped)" if skipped else "")
           + (f", {len(written)} file{'s' if len(written) != 1 else ''} written" if written else ""))
     for f in failed:
         print(f"FAILED {f['input']}: {f['error']}")

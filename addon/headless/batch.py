@@ -1,0 +1,95 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""--jobs N or --scheduler ADDRESS: the inputs as Dask tasks (dask_tasks.py), each this
+same command line on one input in its own Blender process.
+
+The child gets the parent's options, one input and its own report, which comes back as
+that input's entry; a child that crashes is retried (--retries), one that fails cleanly
+is reported once. Progress: a bar with count, rate and time left on a terminal, nothing
+but failures in a log.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from . import dask_tasks
+from .arguments import RUN_OPTIONS, option_argv
+from .console import Console, duration
+from .inputs import InputJob
+
+# The file a child runs as a script (its bootstrap loads the package around it).
+ENTRY_SCRIPT = Path(__file__).resolve().parent.parent / "cli.py"
+
+
+def child_command() -> list:
+    """How to start this same command line in a new process."""
+    import bpy
+
+    script = str(ENTRY_SCRIPT)
+    binary = bpy.app.binary_path
+    if binary:  # inside Blender: a background Blender running the entry script
+        return [binary, "--background", "--python-exit-code", "1", "--python", script, "--"]
+    return [sys.executable, script]  # the bpy module: the same interpreter
+
+
+def asset_for(job: InputJob, args, base: list) -> dask_tasks.Asset:
+    """The task of one input: ``base`` (the command and the shared options) plus its input,
+    where its outputs go, and --force (the parent's up-to-date check already ran)."""
+    argv = list(base)
+    argv += ["--sample"] if job.kind == "sample" else ["--input", str(job.path)]
+    if args.output is not None:
+        argv += ["--output", str(job.outputs[0])]
+    elif job.outputs:
+        argv += ["--output-dir", str(job.outputs[0].parent), "--format", *(o.suffix[1:] for o in job.outputs)]
+    if args.force:
+        argv.append("--force")
+    return dask_tasks.Asset(job.label, str(job.path) if job.path else job.label, argv)
+
+
+class ProgressBar:
+    """One line redrawn in place on a terminal; silent when stderr is a log file."""
+
+    def __init__(self, console: Console, total: int):
+        self.console, self.total = console, total
+        self.done = self.failed = 0
+        self.t0 = time.perf_counter()
+        self.live = not console.quiet and sys.stderr.isatty()
+
+    def update(self, entry: dict) -> None:
+        self.done += 1
+        if not entry["ok"]:
+            self.failed += 1
+            self.clear()
+            self.console.error(f"{entry['label']}: {entry['error']}")
+        if self.live:
+            elapsed = time.perf_counter() - self.t0
+            rate = self.done / elapsed * 60.0 if elapsed > 0 else 0.0
+            left = elapsed / self.done * (self.total - self.done)
+            failed = f", {self.failed} failed" if self.failed else ""
+            self.console.redraw(f"[{self.done}/{self.total}{failed}] {rate:.1f} inputs/min, "
+                                f"about {duration(left)} left")
+
+    def clear(self) -> None:
+        if self.live:
+            self.console.redraw("")
+
+
+def run_batch(jobs: list, args, parser, console: Console, on_result) -> list:
+    """Every job's report entry, in the order given; ``on_result(entry)`` as each ends."""
+    base = child_command() + option_argv(parser, args, set(RUN_OPTIONS))
+    assets = [asset_for(job, args, base) for job in jobs]
+    bar = ProgressBar(console, len(assets))
+    client, cluster, dashboard = dask_tasks.open_client(args.jobs, args.scheduler)
+    if dashboard:
+        console.progress(f"Dask dashboard: {dashboard}")
+
+    def finished(entry):
+        bar.update(entry)
+        on_result(entry)
+
+    try:
+        return dask_tasks.run_on(client, assets, retries=args.retries, on_result=finished)
+    finally:
+        bar.clear()
+        dask_tasks.close_client(client, cluster)
