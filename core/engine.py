@@ -14,19 +14,19 @@ Python loops run over passes only; every step is a bulk NumPy operation.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import components, features, quadrics, selection, shape_keys, slivers, topology, validation, vertex_quadrics
 from .guards import relaxation_ladder
+from .heartbeat import Heartbeat
 from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
 from .result import (
     STOP_MAX_ERROR,
     STOP_TARGET,
     STOP_TOPOLOGY,
-    SimplifyCancelled,
     SimplifyResult,
     SimplifyStats,
 )
@@ -97,21 +97,27 @@ class State:
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
     key_scale: float = 1.0  # offsets are in input units; positions are normalised
+    heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
 
 def run(p: Problem) -> list:
     t_start = time.perf_counter()
+    heartbeat = Heartbeat(p.progress)
     n = len(p.vertices)
     F = p.faces
     conn = topology.build(F, n)
+    heartbeat.beat()
     face_normals, face_areas = face_frames(p.vertices, F)
     feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
+    heartbeat.beat()
     Q, area = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
         feature_edges, feature_weights, p.probabilistic_sigma,
     )
+    heartbeat.beat()
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
     locked = p.locked | _non_manifold_vertices(conn, F, n)
+    heartbeat.beat()
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
@@ -127,6 +133,7 @@ def run(p: Problem) -> list:
         ladder=relaxation_ladder(p.min_quality),
     )
     s.guards = s.ladder[0]
+    s.heartbeat = heartbeat
     if p.shape_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
@@ -153,10 +160,7 @@ def run(p: Problem) -> list:
             outcome = _unstick(s, p, target)
         if outcome is not None:
             stop = outcome
-        if p.progress is not None:
-            done = (start_faces - len(s.F)) / max(start_faces - final_target, 1)
-            if p.progress(min(max(done, 0.0), 1.0)) is False:
-                raise SimplifyCancelled("simplification cancelled")
+        heartbeat.report((start_faces - len(s.F)) / max(start_faces - final_target, 1))
     return results
 
 
@@ -201,6 +205,7 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         s.changed |= kind != s.kind
     s.kind = kind
     cand = selection.candidates(s, conn, kind, pass_no)
+    s.heartbeat.beat()
     if len(cand.edge) == 0:
         return STOP_TOPOLOGY
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
@@ -281,6 +286,7 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
         ok = validation.valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window)
         np.subtract.at(faces_taken, corners.compress(~np.concatenate([ok, ok.compress(has1)])), 1)
         _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
+        s.heartbeat.beat()
         eligible[chosen] = False
         chosen = chosen[ok]
         taken.append(chosen)

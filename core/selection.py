@@ -8,6 +8,7 @@ import numpy as np
 
 from . import quadrics, shape_keys, topology
 from .geometry import edge_parameter, rows
+from .heartbeat import chunks
 
 # Vertex kinds: free, slides only along its seam, never moves.
 FREE, SEAM, LOCKED = 0, 1, 2
@@ -78,8 +79,11 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
         position = np.empty((len(idx), 3))
         cost = np.empty(len(idx))
         fresh = np.arange(len(idx))
-    if len(fresh):
-        position[fresh], cost[fresh] = _optimal(s, keep[fresh], remove[fresh], k_keep[fresh], k_remove[fresh])
+    for part in chunks(len(fresh)):
+        # In chunks, each row on its own: the same numbers, and a heartbeat between.
+        rows_ = fresh[part]
+        position[rows_], cost[rows_] = _optimal(s, keep[rows_], remove[rows_], k_keep[rows_], k_remove[rows_])
+        s.heartbeat.beat()
     s.cost_cache = (keep, position, cost)
     s.cost_slot = np.full(len(conn.edges), -1, dtype=np.int64)
     s.cost_slot[idx] = np.arange(len(idx))

@@ -36,7 +36,8 @@ def simplify(
     so every target the topology allows is reached; ``stats.stop_reason`` is
     ``"topology_limit"`` when even the loosest step cannot go on.
 
-    progress(fraction) is called once per pass; returning False raises SimplifyCancelled.
+    progress(fraction) is called after every pass and, in long ones, every quarter second
+    between their steps (core.heartbeat); returning False raises SimplifyCancelled.
     The same input and seed give bit-identical output.
     """
     opts = Options.of(options, **option_values)

@@ -212,8 +212,37 @@ def test_progress_fractions_increase_within_unit_interval():
     r = core.simplify(Vs, Fs, ratio=0.1, progress=lambda f: calls.append(f) or True)
     assert r.stats.stop_reason == "target_reached"
     f = np.array(calls)
-    assert len(f) == r.stats.passes >= 2  # once per pass
+    assert len(f) >= r.stats.passes >= 2, (len(f), r.stats.passes)  # every pass, and between steps of long ones
     assert np.all((f >= 0) & (f <= 1))
     assert np.all(np.diff(f) >= 0)
     assert f[-1] == 1.0
     assert f[0] < 1.0
+
+
+def test_long_steps_report_progress_and_cancel_inside_a_pass(monkeypatch):
+    """A scan's set-up and passes take seconds: the heartbeat calls progress between steps
+    and between chunks of the per-edge work, and a False there cancels at once."""
+    from core import heartbeat
+
+    monkeypatch.setattr(heartbeat, "BEAT_INTERVAL", 0.0)  # every beat reaches the callback
+    monkeypatch.setattr(heartbeat, "CHUNK_ROWS", 64)
+    Vs, Fs, _ = build.uv_sphere(24, 16)
+    calls = []
+    r = core.simplify(Vs, Fs, ratio=0.1, progress=lambda f: calls.append(f) or True)
+    assert len(calls) > 3 * r.stats.passes, f"beats inside passes expected, got {len(calls)} calls for {r.stats.passes} passes"
+    assert calls[0] == 0.0 and np.all(np.diff(calls) >= 0), calls[:10]
+
+    seen = []
+    with pytest.raises(core.SimplifyCancelled):
+        core.simplify(Vs, Fs, ratio=0.1, progress=lambda f: seen.append(f) or len(seen) < 3)
+    assert seen == [0.0, 0.0, 0.0], f"cancelled during set-up, before the first pass ended: {seen}"
+
+
+def test_chunked_edge_costs_give_the_same_result(monkeypatch):
+    from core import heartbeat
+
+    Vs, Fs, _ = build.uv_sphere(24, 16)
+    whole = core.simplify(Vs, Fs, ratio=0.2)
+    monkeypatch.setattr(heartbeat, "CHUNK_ROWS", 7)
+    chunked = core.simplify(Vs, Fs, ratio=0.2)
+    assert np.array_equal(whole.faces, chunked.faces) and np.array_equal(whole.vertices, chunked.vertices)
