@@ -181,7 +181,9 @@ def open_client(jobs: int, scheduler: Optional[str]):
             client = distributed.Client(scheduler, timeout="20s")
         except OSError as ex:
             raise RuntimeError(f"cannot reach the Dask scheduler at {scheduler}: {ex}") from None
-        return client, None, client.dashboard_link
+        # dashboard_link is a template even when the scheduler serves no dashboard.
+        served = "dashboard" in client.scheduler_info().get("services", {})
+        return client, None, client.dashboard_link if served else None
     # Worker threads, not processes: a task only starts its Blender process and waits,
     # so threads isolate crashes just as well, start at once, and need no re-import of
     # the main module (which multiprocessing's spawn would do, inside Blender too).
