@@ -371,11 +371,11 @@ def add_arguments(group, names=None) -> None:
             group.add_argument(s.flag, dest=s.name, action="store_false" if off else "store_true",
                                default=s.default, **extra)
         elif s.items:
-            ids = [i for i, _, _ in s.items]
-            group.add_argument(s.flag, dest=s.name, type=str.upper, choices=ids, default=s.default,
-                               metavar="{" + ",".join(i.lower() for i in ids) + "}", **extra)
+            ids = [i.lower() for i, _, _ in s.items]
+            group.add_argument(s.flag, dest=s.name, type=_choice(ids), default=s.default,
+                               metavar="{" + ",".join(ids) + "}", **extra)
         else:
-            group.add_argument(s.flag, dest=s.name, type=_number if s.kind is float else _whole,
+            group.add_argument(s.flag, dest=s.name, type=number if s.kind is float else _whole,
                                default=s.default, **extra)
 
 
@@ -387,14 +387,17 @@ def argument_problems(args) -> list:
 
 
 def settings_from_arguments(args, **overrides) -> "LodSettings":
-    """LodSettings from every setting ``args`` carries (see add_arguments), the rest at
-    their defaults, then ``overrides`` (e.g. ratios=..., importance_source=...)."""
-    values = {name: getattr(args, name) for name in LodSettings.names() if hasattr(args, name)}
+    """LodSettings from every flagged setting ``args`` carries (see add_arguments), the
+    rest at their defaults, then ``overrides`` (e.g. ratios=..., importance_source=...).
+    Only the flagged ones: a parser may hold an option of its own under a setting's name
+    (the command line's --importance-group, a choice made per object, given as override)."""
+    values = {s.name: getattr(args, s.name) for s in flagged() if hasattr(args, s.name)}
     values.update(overrides)
     return LodSettings(**values)
 
 
-def _number(text):
+def number(text):
+    """The argparse type of a number option: a finite float, or a one-line error."""
     import argparse
 
     try:
@@ -404,6 +407,18 @@ def _number(text):
     if not np.isfinite(value):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
     return value
+
+
+def _choice(ids):
+    """An enum's argparse type: the lower-case identifiers in, the table's (upper case) out."""
+    import argparse
+
+    def choice(text):
+        if text.lower() not in ids:
+            raise argparse.ArgumentTypeError(
+                f"invalid choice: {text!r} (choose from {', '.join(map(repr, ids))})")
+        return text.upper()
+    return choice
 
 
 def _whole(text):
