@@ -37,9 +37,9 @@ class ObjectObserver:
         pass
 
 
-def _prepare(context, obj, settings: lod.LodSettings) -> lod.LodInput:
+def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple) -> lod.LodInput:
     try:
-        return lod.prepare(context, obj, settings)
+        return lod.prepare(context, obj, settings, chain_labels)
     except LodError as ex:
         # With several objects, a message such as "the first LOD's target ... is not
         # smaller than the mesh" must say which one it is about.
@@ -51,14 +51,15 @@ def _prepare(context, obj, settings: lod.LodSettings) -> lod.LodInput:
 
 class LodJob:
     def __init__(self, context, objects,
-                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]]):
-        """``settings``: one for every object, or a sequence with one per object.
+                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]], chain_labels: tuple = ()):
+        """``settings``: one for every object, or a sequence with one per object;
+        ``chain_labels``: how messages name an explicit chain (lod.prepare).
         Reads Blender data: main thread only. Raises LodError for bad input, naming the object."""
         objects = list(objects)
         per_object = list(settings) if isinstance(settings, (list, tuple)) else [settings] * len(objects)
         if len(per_object) != len(objects):
             raise ValueError(f"{len(per_object)} settings for {len(objects)} objects")
-        self.inputs = [_prepare(context, ob, s) for ob, s in zip(objects, per_object)]
+        self.inputs = [_prepare(context, ob, s, chain_labels) for ob, s in zip(objects, per_object)]
         self.outputs = []
         self.fraction = 0.0
         self.error: Optional[BaseException] = None
@@ -97,7 +98,8 @@ class LodJob:
         self._thread.start()
 
     def cancel(self) -> None:
-        """Ask the run to stop at its next progress report (within one simplification pass)."""
+        """Ask the run to stop at its next progress report (core.heartbeat: a quarter second
+        apart inside long passes)."""
         self._cancel.set()
 
     @property

@@ -28,11 +28,16 @@ from . import edges as edge_util
 from . import importance as imp
 from . import measure
 from . import mesh_io
+from . import switch_distances
 from . import vertex_groups
 from .settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
 
 SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
 LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
+# Custom properties on every object of a measured chain (the source too), one per key of
+# switch_distances.PER_LEVEL_KEYS: "lqlod_switch_distance", "lqlod_unity_transition_height", ...
+# The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
+SWITCH_PROP_PREFIX = "lqlod_"
 PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
 DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
 # compute() reports simplification as this share of its progress and the deviation
@@ -187,8 +192,10 @@ def _core_options(obj, settings, data, g) -> tuple:
     return options, names
 
 
-def prepare(context_or_scene, source, settings: LodSettings) -> LodInput:
-    """Check the input and read everything the run needs from Blender (main thread)."""
+def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = ()) -> LodInput:
+    """Check the input and read everything the run needs from Blender (main thread).
+    ``chain_labels``: how a message about the explicit chain names its ratios and triangle
+    counts (LodSettings.targets; the command line: "--ratios", "--faces")."""
     if source is None or getattr(source, "type", None) != 'MESH':
         name = getattr(source, "name", source)
         raise LodError(f'"{name}" is not a mesh object')
@@ -201,7 +208,7 @@ def prepare(context_or_scene, source, settings: LodSettings) -> LodInput:
         raise LodError(f'"{source.name}" has an empty mesh')
     if len(data.faces) == 0:
         raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
-    targets = settings.targets(len(data.faces))
+    targets = settings.targets(len(data.faces), *chain_labels)
     g = _importance(source, settings, data.group_names, data.group_weights)
     options, names = _core_options(source, settings, data, g)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
@@ -390,7 +397,7 @@ def _copy_setup(source, lod, level: int) -> None:
             lod.material_slots[i].material = slot.material
 
     for key in source.keys():
-        if key in (SOURCE_PROP, LEVEL_PROP):
+        if key in (SOURCE_PROP, LEVEL_PROP) or key.startswith(SWITCH_PROP_PREFIX):
             continue
         value = source[key]
         lod[key] = value.to_dict() if hasattr(value, "to_dict") else (
@@ -437,6 +444,35 @@ def _lod_collection(scene, source):
     return coll
 
 
+def switch_prop(key: str) -> str:
+    """The custom property holding one level's switch_distances number ``key``."""
+    return SWITCH_PROP_PREFIX + key
+
+
+def world_scale(ob) -> float:
+    """The largest axis scale of ``ob``'s world matrix (what its own units are multiplied by)."""
+    return max(abs(c) for c in ob.matrix_world.to_scale())
+
+
+def _switch_data(source, out) -> tuple:
+    """(switch_distances.chain_switch_data of the chain, or None, and why not)."""
+    if not out.input.settings.measure_deviation:
+        return None, None  # nothing measured, nothing to say: the panel's choice
+    try:
+        percent = [0.0] + [entry["hausdorff_percent"] for entry in out.reports]
+        data = out.input.data
+        return switch_distances.chain_switch_data(percent, data.vertices, data.faces, world_scale(source)), None
+    except ValueError as ex:
+        return None, f"no switch distances: {ex}"
+
+
+def _set_switch_props(ob, numbers) -> None:
+    for key in [k for k in ob.keys() if k.startswith(SWITCH_PROP_PREFIX)]:
+        del ob[key]
+    for key, value in (numbers or {}).items():
+        ob[switch_prop(key)] = float(value)
+
+
 def commit(context_or_scene, outputs: list) -> list:
     """Write the LOD objects of each output and link them (main thread).
 
@@ -480,6 +516,17 @@ def commit(context_or_scene, outputs: list) -> list:
             coll.objects.link(lod)
         levels = [dict(entry, name=lod.name) for entry, lod in zip(out.reports, objects)]
         data = out.input.data
+        switch, why_not = _switch_data(source, out)
+        per_level = switch_distances.per_level(switch) if switch else [None] * (len(objects) + 1)
+        for ob, numbers in zip([source] + objects, per_level):
+            _set_switch_props(ob, numbers)
+        if switch:
+            for entry, numbers in zip(levels, per_level[1:]):
+                entry.update(numbers)
+            switch = {key: value for key, value in switch.items() if key not in switch_distances.PER_LEVEL_KEYS}
+            switch["lod0"] = per_level[0]
+        if why_not:
+            out.input.warnings.append(why_not)
         reports.append({
             "object": source.name,
             "collection": coll.name,
@@ -487,6 +534,7 @@ def commit(context_or_scene, outputs: list) -> list:
             "source_vertices": int(len(data.vertices)),
             "seconds": float(out.seconds),
             "levels": levels,
+            "switch": switch,
             "warnings": list(out.input.warnings),
         })
     return reports
@@ -499,7 +547,11 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
      levels: [{level, name, target, triangles, vertices, seconds, stop_reason,
                hausdorff_percent, mean_percent (if measured), mean_quality,
                min_quality, sliver_percent, importance (with importance on: painted_vertices,
-               painted_kept, painted_kept_percent, rest_kept_percent, painted_density)}]}.
+               painted_kept, painted_kept_percent, rest_kept_percent, painted_density),
+               and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
+               unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
+     switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,
+             bounding_sphere_radius, bounding_box_size, cull_distance, lod0: LOD0's numbers}}.
     Raises LodError (bad input) or LodCancelled (progress returned False); in both
     cases the scene is unchanged.
     """
