@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 
 from ..job import ObjectObserver
+from ..lod import progress_share
 from .console import Console, duration
 
 
@@ -73,7 +74,7 @@ class ProgressLines(ObjectObserver):
         # The engine reports (faces removed) / (faces to remove down to the last target).
         self.marks = [(m - t) / self.removed for t in targets]
         self.measuring = lod_input.settings.measure_deviation
-        self.share = 0.8 if self.measuring else 1.0  # how lod.compute splits its fraction
+        self.share = progress_share(self.measuring)  # how lod.compute splits its fraction
         self.next = 0
         self.t0 = time.perf_counter()
         self.t_simplified = None
