@@ -1,0 +1,121 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""LODs asked for by deviation: the fewest triangles whose *measured* distance to the
+source stays within a bound (issue 22).
+
+The core's ``max_error`` bounds each collapse's quadric error, an area-weighted RMS
+distance to planes; it says nothing sure about the largest distance an artist sees. So
+a deviation target is met by measuring instead: one progressive run snapshots a ladder
+of ever coarser levels (each ``LADDER_STEP`` times the triangles of the one before), and
+a bisection over the ladder estimates the two-sided Hausdorff distance (addon/measure.py
+with fewer samples) of a few of them, and the coarsest within the bound is then measured
+as the report measures it; should that say "beyond" after all, the next finer rung is.
+Distance grows close to monotonically as triangles go, so about log2(levels) estimates
+suffice; the kept level's reported number is within the bound by construction. Adjacent levels differ by about 1/LADDER_STEP in
+distance, so the level kept is seldom needlessly dense.
+
+No bpy here: the measuring function is passed in (``measure.surface_deviation`` needs
+Blender's mathutils when called).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+
+LADDER_STEP = 0.85  # each rung keeps this share of the rung above's triangles
+LADDER_FLOOR = 4  # no rung below this many triangles (a tetrahedron)
+# Area samples a side for the estimates that steer the search (the report uses
+# measure.DEFAULT_SAMPLES); vertices are added either way.
+QUICK_SAMPLES = 50_000
+
+
+def ladder(triangles: int, step: float = LADDER_STEP, floor: int = LADDER_FLOOR) -> list:
+    """Decreasing triangle counts below ``triangles``: round(triangles * step**k), k >= 1,
+    down to ``floor`` (distinct, so every rung removes something)."""
+    counts = []
+    k = 1
+    while True:
+        count = int(round(triangles * step ** k))
+        if count < floor:
+            break
+        if not counts or count < counts[-1]:
+            counts.append(count)
+        k += 1
+    return counts
+
+
+@dataclass
+class Choice:
+    """For one requested deviation: the rung kept (None: not even the first rung is within
+    it) and the Hausdorff distance measured there (mesh units)."""
+
+    deviation: float
+    level: Optional[int]
+    hausdorff: float
+
+
+@dataclass
+class Search:
+    """Measured distances by rung index, shared between the requested deviations.
+
+    ``quick(i)`` steers the bisection (fewer samples); ``exact(i)`` is the report's own
+    measurement, taken of the rung finally kept: if it says the rung is beyond the bound
+    after all (a sampling miss), the next finer rung is confirmed instead.
+    """
+
+    quick: Callable[[int], float]
+    exact: Optional[Callable[[int], float]] = None
+    measured: dict = field(default_factory=dict)
+    confirmed: dict = field(default_factory=dict)
+
+    def hausdorff(self, level: int) -> float:
+        if level not in self.measured:
+            self.measured[level] = float(self.quick(level))
+        return self.measured[level]
+
+    def exact_hausdorff(self, level: int) -> float:
+        if self.exact is None:
+            return self.hausdorff(level)
+        if level not in self.confirmed:
+            self.confirmed[level] = float(self.exact(level))
+        return self.confirmed[level]
+
+    def coarsest_within(self, deviation: float, levels: int, below: int = -1) -> Choice:
+        """The highest rung in (below, levels) measured within ``deviation``; bisection
+        assuming distance grows with the rung (rung ``below`` is taken as within)."""
+        lo, hi = below, levels  # lo: within (or the source), hi: beyond (or past the end)
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if self.hausdorff(mid) <= deviation:
+                lo = mid
+            else:
+                hi = mid
+        while lo > below and self.exact_hausdorff(lo) > deviation:
+            lo -= 1
+        if lo == below:
+            return Choice(deviation, None, float("nan"))
+        return Choice(deviation, lo, self.exact_hausdorff(lo))
+
+
+def choose_levels(deviations: Sequence[float], levels: int, quick: Callable[[int], float],
+                  exact: Optional[Callable[[int], float]] = None) -> list:
+    """A Choice per requested deviation (increasing), each coarser than the one before.
+
+    ``levels``: how many rungs the run produced; ``quick(i)`` / ``exact(i)``: the two-sided
+    Hausdorff distance of rung i to the source, in the units of ``deviations``, estimated
+    and as reported (``exact`` defaults to ``quick``).
+    """
+    deviations = [float(d) for d in deviations]
+    if any(not np.isfinite(d) or d <= 0 for d in deviations):
+        raise ValueError(f"deviations must be positive numbers, got {deviations}")
+    if any(b <= a for a, b in zip(deviations, deviations[1:])):
+        raise ValueError(f"deviations must increase (each LOD coarser than the one before), got {deviations}")
+    search = Search(quick, exact)
+    choices, below = [], -1
+    for deviation in deviations:
+        choice = search.coarsest_within(deviation, levels, below)
+        if choice.level is not None:
+            below = choice.level
+        choices.append(choice)
+    return choices

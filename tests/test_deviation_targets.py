@@ -1,0 +1,63 @@
+"""addon/deviation_targets.py: the rung ladder and the bisection that picks, for each
+requested deviation, the coarsest measured level within it."""
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from addon import deviation_targets as dt
+
+
+def test_ladder_steps_down_geometrically_to_the_floor():
+    counts = dt.ladder(10_000)
+    assert counts[0] == 8500 and counts[-1] >= dt.LADDER_FLOOR
+    assert all(b < a for a, b in zip(counts, counts[1:])), counts
+    ratios = np.array(counts[1:]) / np.array(counts[:-1])
+    assert np.all(ratios[:20] == pytest.approx(dt.LADDER_STEP, abs=0.01)), ratios[:20]
+    assert dt.ladder(4) == [] and dt.ladder(5) == [4], "nothing coarser than a tetrahedron"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(0.0, 1.0), min_size=1, max_size=60),
+       st.lists(st.floats(1e-4, 1.0), min_size=1, max_size=4, unique=True))
+def test_choices_are_the_coarsest_rungs_within_each_bound(steps, deviations):
+    """With distance increasing along the ladder, the bisection finds what a scan would,
+    and measures only a few rungs."""
+    hausdorff = np.cumsum(steps)  # non-decreasing distances, rung by rung
+    deviations = sorted(deviations)
+    calls = []
+    choices = dt.choose_levels(deviations, len(hausdorff), lambda i: calls.append(i) or hausdorff[i])
+    below = -1
+    for d, choice in zip(deviations, choices):
+        within = [i for i in range(below + 1, len(hausdorff)) if hausdorff[i] <= d]
+        expected = within[-1] if within else None
+        assert choice.level == expected, (d, choice, hausdorff)
+        if expected is not None:
+            assert choice.hausdorff == hausdorff[expected] <= d
+            below = expected
+    assert len(set(calls)) <= len(deviations) * (int(np.log2(len(hausdorff))) + 2), calls
+
+
+def test_every_choice_is_measured_within_its_bound_even_when_distance_wiggles():
+    rng = np.random.default_rng(3)
+    hausdorff = np.cumsum(rng.uniform(0, 1, 40)) * rng.uniform(0.8, 1.2, 40)  # not monotone
+    for d in (2.0, 5.0, 11.0, 30.0):
+        (choice,) = dt.choose_levels([d], len(hausdorff), lambda i: hausdorff[i])
+        assert choice.level is None or hausdorff[choice.level] <= d, (d, choice)
+
+
+def test_bad_requests_are_named():
+    with pytest.raises(ValueError, match="positive"):
+        dt.choose_levels([0.0], 3, lambda i: 1.0)
+    with pytest.raises(ValueError, match="increase"):
+        dt.choose_levels([0.2, 0.1], 3, lambda i: 1.0)
+
+
+def test_the_kept_rung_is_confirmed_by_the_exact_measurement():
+    """The quick estimate misses a peak on rung 6; the report's measurement catches it,
+    and the next finer rung that the exact measurement puts within the bound is kept."""
+    quick = np.arange(10, dtype=float)  # rung i at distance i
+    exact = quick.copy()
+    exact[6] = 9.0
+    (choice,) = dt.choose_levels([6.5], 10, lambda i: quick[i], lambda i: exact[i])
+    assert (choice.level, choice.hausdorff) == (5, 5.0), choice
