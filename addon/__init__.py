@@ -6,7 +6,8 @@ Modules (one idea each):
     edges           edge bookkeeping in plain NumPy (feature edges, sharp edges, seams)
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
-    settings        LodSettings, LodError, LodCancelled (no bpy: the command line parses into them)
+    settings        SETTINGS, the one table of the settings, and what derives from it: LodSettings,
+                    the command line's options; LodError, LodCancelled (no bpy)
     importance      what the Importance settings mean as core parameters
     lod             generate_lods(): read, simplify, write, link (no UI)
     job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)

@@ -8,8 +8,7 @@ import sys
 import pytest
 
 from addon.headless import arguments, inputs, report
-from addon.headless.lod_settings import settings_from_args
-from addon.settings import LodError
+from addon.settings import LodError, LodSettings, flagged
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
 REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",
@@ -70,7 +69,7 @@ def test_each_problem_gets_its_own_line(tmp_path):
     lines = error_lines(err)
     expected = [
         "--ratios: 1.5 not between 0 and 1",
-        "--strength must be between 0 and 1, got 2",
+        "--strength must be in [0, 1], got 2",
         "unsupported output format '.xyz' for out.xyz",
         "no such file: missing.obj",
         "unsupported input format '.txt': notes.txt",
@@ -113,13 +112,13 @@ def test_check_args_rules():
         "--faces must decrease (each LOD smaller than the one before), got 100 100"]
     assert arguments.check_args(parse("--line-weight", "-1", "--report", "r.json")) == ["--line-weight must be >= 0, got -1"]
     assert arguments.check_args(parse("--min-quality", "1.5", "--report", "r.json")) == [
-        "--min-quality must be between 0 and 1, got 1.5"]
+        "--min-quality must be in [0, 1], got 1.5"]
     assert arguments.check_args(parse("--feature-angle", "180", "--report", "r.json")) == [
-        "--feature-angle must be in degrees from 0 (off) to below 180, got 180"]
-    settings = settings_from_args(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
+        "--feature-angle must be in [0, 180) degrees (0 = off), got 180"]
+    settings = arguments.lod_settings(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
                                    "--report", "r.json"))
     assert (settings.min_quality, settings.feature_angle, settings.remove_small_components) == (0.0, 0.0, True)
-    defaults = settings_from_args(parse("--report", "r.json"))
+    defaults = arguments.lod_settings(parse("--report", "r.json"))
     assert (defaults.min_quality, defaults.feature_angle, defaults.remove_small_components) == (0.3, 80.0, False)
     assert arguments.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
         "--format goes with --output-dir; the --output file's extension picks its format"]
@@ -127,9 +126,21 @@ def test_check_args_rules():
         "--importance-group needs a vertex group name"]
 
 
+def test_the_panels_settings_options_are_the_tables():
+    """Each panel setting's option is the table's: its flag, stored under the setting's
+    name with the setting's default; the chain is LodSettings' own."""
+    actions = {a.option_strings[0]: a for a in arguments.build_parser("test")._actions if a.option_strings}
+    for s in flagged():
+        assert (actions[s.flag].dest, actions[s.flag].default) == (s.name, s.default), s.flag
+    assert arguments.lod_settings(parse("--report", "r.json")) == LodSettings(ratios=(0.5, 0.25, 0.125))
+    given = arguments.lod_settings(parse("--faces", "90", "9", "--no-preserve-seams", "--importance-group", "G",
+                                         "--report", "r.json"))
+    assert given == LodSettings(triangle_counts=(90, 9), preserve_seams=False)  # importance: per object
+
+
 def targets(*argv, triangles):
     """The chain lod.prepare() gets from the settings the options give."""
-    return settings_from_args(parse(*argv, "--report", "r.json")).targets(triangles)
+    return arguments.lod_settings(parse(*argv, "--report", "r.json")).targets(triangles, *arguments.CHAIN_LABELS)
 
 
 def test_the_options_chain_replaces_the_panels():

@@ -1,22 +1,29 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The command line's options: the parser, the checks argparse cannot make, and the
-way back from parsed options to an argument list (for the --jobs children).
+"""The command line's options: the parser, the checks argparse cannot make, the
+LodSettings they give, and the way back from parsed options to an argument list (for
+the --jobs children).
+
+The panel's settings are not written here: their options, defaults, help and range
+checks come from the settings table (addon/settings.py: add_arguments,
+argument_problems, settings_from_arguments), and the LOD chain is LodSettings' own
+(its explicit ratios or triangle_counts). Here are the options that are not panel
+settings: the chain as a list, the importance choice per object, inputs, outputs and
+how to run.
 
 No bpy: a mistyped option fails at once, before Blender loads anything.
 """
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 from pathlib import Path
 from typing import Optional
 
-from ..settings import LodSettings
+from ..settings import (IMPORTANCE_GROUP, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
+                        number, settings_from_arguments)
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
-from .lod_settings import DEFAULT_RATIOS
 
 SCHEDULER_ENV = "LQLOD_SCHEDULER"  # the Dask scheduler to use when --scheduler is not given
 DEFAULT_RETRIES = 2
@@ -24,7 +31,7 @@ DEFAULT_RETRIES = 2
 # up-to-date key, and the batch gives its children its own values of them.
 RUN_OPTIONS = ("input", "sample", "output", "output_dir", "format", "report", "jobs", "scheduler",
                "retries", "force", "quiet", "debug")
-SAMPLE_IMPORTANCE_GROUP = "LOD_Importance"  # sample.IMPORTANCE_GROUP (that module needs bpy)
+CHAIN_LABELS = ("--ratios", "--faces")  # how messages about the chain name it (LodSettings.targets)
 
 EXAMPLES = """\
 examples:
@@ -109,19 +116,7 @@ def _non_negative_int(text):
     return value
 
 
-def _number(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return value
-
-
-
 def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
-    d = LodSettings()
     p = _Parser(
         prog=prog or "line_quadric_lod",
         description="Make LOD chains of mesh objects with line-quadric simplification "
@@ -142,47 +137,21 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
 
     g = p.add_argument_group("LOD chain (one LOD per value, each smaller than the one before)")
     t = g.add_mutually_exclusive_group()
-    t.add_argument("--ratios", nargs="+", type=_number, metavar="R",
+    t.add_argument("--ratios", nargs="+", type=number, metavar="R",
                    help="fractions of the source's triangles, e.g. 0.5 0.25 0.1 "
-                        f"(default {' '.join(f'{r:g}' for r in DEFAULT_RATIOS)})")
+                        f"(default {' '.join(f'{r:g}' for r in LodSettings().chain()[1])})")
     t.add_argument("--faces", nargs="+", type=_positive_int, metavar="N",
                    help="triangle counts, e.g. 20000 5000 1000")
 
     g = p.add_argument_group("simplification (the panel's settings)")
-    g.add_argument("--line-weight", type=_number, default=d.line_weight, metavar="W",
-                   help="line-quadric weight: higher gives more uniform triangles, lower a more "
-                        f"faithful shape (default {d.line_weight:g}; useful up to 0.1)")
-    g.add_argument("--min-quality", type=_number, default=d.min_quality, metavar="Q",
-                   help="no collapse makes a triangle thinner than this quality, 0 to 1 (1 = "
-                        f"equilateral; default {d.min_quality:g}); 0 with --line-weight 0 gives "
-                        "the closest shape on hard-surface parts, at the cost of slivers")
-    g.add_argument("--feature-angle", type=_number, default=d.feature_angle, metavar="DEG",
-                   help="edges whose faces' normals differ by more than DEG degrees are kept like "
-                        "sharp edges, and their corners (and turns of open borders by half as much) stay in "
-                        f"place (default {d.feature_angle:g}; 0 = off)")
-    g.add_argument("--remove-small-components", action="store_true",
-                   help="when a target cannot be reached otherwise, delete the smallest separate "
-                        "parts (bolts, leaf cards) rather than stop above it")
+    add_arguments(g, ["line_weight", "min_quality", "feature_angle", "remove_small_components"])
     g.add_argument("--importance-group", metavar="NAME",
                    help="vertex group painting where detail matters (weight 1 = keep most)")
     g.add_argument("--from-armature", action="store_true",
                    help="importance from the skin weights of skinned objects (paper Sec. 5.3): "
                         "detail is kept where bones bend")
-    g.add_argument("--strength", type=_number, default=d.importance_strength, metavar="S",
-                   help="importance strength, 0 to 1: about 1.5x as dense at 0.1, 4.5x at 0.5, "
-                        f"nearly locked at 1 (default {d.importance_strength:g})")
-    g.add_argument("--mode", choices=("soft", "strong"), default=d.importance_mode.lower(),
-                   help="no longer used (importance has one calibrated mode); accepted so older "
-                        "scripts still run")
-    for name, what in (("boundaries", "open boundaries"), ("seams", "UV seams"),
-                       ("sharp", "sharp edges"), ("materials", "material borders")):
-        g.add_argument(f"--no-preserve-{name}", action="store_true", help=f"do not preserve {what}")
-    for name, what in (("boundary", "open boundaries"), ("seam", "UV seams"),
-                       ("sharp", "sharp edges"), ("material", "material borders")):
-        g.add_argument(f"--{name}-strength", type=_number, default=getattr(d, f"{name}_strength"),
-                       metavar="S", help=f"how strongly {what} are kept (default 1)")
-    g.add_argument("--no-modifiers", action="store_true",
-                   help="simplify the base meshes, ignoring their modifiers")
+    add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
+                      *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 
     g = p.add_argument_group("output")
     o = g.add_mutually_exclusive_group()
@@ -199,8 +168,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
                         "triangle quality; a name ending in .jsonl gets one line per input as "
                         "each finishes, then a summary line (nothing is lost if the run stops)")
-    g.add_argument("--no-measure", action="store_true",
-                   help="skip the deviation measurement (faster; quality is still reported)")
+    add_arguments(g, ["measure_deviation"])
 
     g = p.add_argument_group("running")
     g.add_argument("--jobs", type=_positive_int, default=1, metavar="N",
@@ -223,33 +191,13 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     return p
 
 
-
 def check_args(args) -> list:
     """Problems with option values that argparse cannot see (one message each)."""
     problems = []
-    if args.ratios is not None:
-        bad = [r for r in args.ratios if not 0.0 < r < 1.0]
-        if bad:
-            problems.append("--ratios: " + ", ".join(f"{r:g}" for r in bad)
-                            + " not between 0 and 1 (a LOD has fewer triangles than its source)")
-        elif any(b >= a for a, b in zip(args.ratios, args.ratios[1:])):
-            problems.append("--ratios must decrease (each LOD smaller than the one before), got "
-                            + " ".join(f"{r:g}" for r in args.ratios))
-    if args.faces is not None and any(b >= a for a, b in zip(args.faces, args.faces[1:])):
-        problems.append("--faces must decrease (each LOD smaller than the one before), got "
-                        + " ".join(str(n) for n in args.faces))
-    if args.line_weight < 0:
-        problems.append(f"--line-weight must be >= 0, got {args.line_weight:g}")
-    if not 0.0 <= args.min_quality <= 1.0:
-        problems.append(f"--min-quality must be between 0 and 1, got {args.min_quality:g}")
-    if not 0.0 <= args.feature_angle < 180.0:
-        problems.append(f"--feature-angle must be in degrees from 0 (off) to below 180, got {args.feature_angle:g}")
-    if not 0.0 <= args.strength <= 1.0:
-        problems.append(f"--strength must be between 0 and 1, got {args.strength:g}")
-    for name in ("boundary", "seam", "sharp", "material"):
-        value = getattr(args, f"{name}_strength")
-        if value < 0:
-            problems.append(f"--{name}-strength must be >= 0, got {value:g}")
+    chain = lod_settings(args).chain_problem(*CHAIN_LABELS)
+    if chain:
+        problems.append(chain)
+    problems += argument_problems(args)
     if args.importance_group is not None and not args.importance_group.strip():
         problems.append("--importance-group needs a vertex group name")
     if args.output is not None:
@@ -266,11 +214,25 @@ def check_args(args) -> list:
     return problems
 
 
-
 def apply_sample_defaults(args) -> None:
     """--sample implies --importance-group LOD_Importance --from-armature (unless either is given)."""
     if args.sample and args.importance_group is None and not args.from_armature:
-        args.importance_group, args.from_armature = SAMPLE_IMPORTANCE_GROUP, True
+        args.importance_group, args.from_armature = IMPORTANCE_GROUP, True
+
+
+def lod_settings(args, **overrides) -> LodSettings:
+    """The LodSettings of a run: the panel's settings from their options, the LOD chain as
+    --ratios or --faces list it, then ``overrides`` (each object's importance_source and
+    importance_group). Neither option: the panel's default chain, spelled out as the list
+    it is (LodSettings().chain()), so each LOD is that share of the source's triangles."""
+    if args.faces is not None:
+        chain = {"triangle_counts": tuple(args.faces)}
+    elif args.ratios is not None:
+        chain = {"ratios": tuple(args.ratios)}
+    else:
+        kind, values = LodSettings().chain()
+        chain = {"ratios" if kind == "ratios" else "triangle_counts": tuple(values)}
+    return settings_from_arguments(args, **chain, **overrides)
 
 
 def option_argv(parser, args, skip) -> list:

@@ -7,17 +7,15 @@ inputs of the run are still done.
 """
 from __future__ import annotations
 
-import dataclasses
 import time
 import traceback
 
 from ..settings import LodError
-from . import freshness, report, scene_files, sources
+from . import freshness, report, scene_files, sidecar, sources
+from .arguments import CHAIN_LABELS, RUN_OPTIONS, lod_settings
 from .console import Console
 from .errors import InputError
-from .arguments import RUN_OPTIONS
 from .inputs import InputJob
-from .lod_settings import settings_from_args
 
 
 def make_lods(objects, args, console: Console, label: str, files_left_seconds: float) -> list:
@@ -27,11 +25,9 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     from ..job import LodJob
     from .progress import ProgressLines
 
-    base = settings_from_args(args)
     choices = sources.importance_choice(objects, args)
-    settings = [dataclasses.replace(base, importance_source=source, importance_group=group)
-                for source, group, _ in choices]
-    job = LodJob(bpy.context, objects, settings)
+    settings = [lod_settings(args, importance_source=source, importance_group=group) for source, group, _ in choices]
+    job = LodJob(bpy.context, objects, settings, CHAIN_LABELS)
     for lod_input, (_, _, note) in zip(job.inputs, choices):
         if note:
             lod_input.warnings.append(note)
@@ -87,6 +83,8 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
             console.progress(f"[{job.label}] writing {out}")
             scene_files.write_atomically(out, args.debug)
             entry["outputs"].append(str(out))
+        if job.outputs:  # every engine's switch numbers beside the outputs
+            entry["sidecars"] = sidecar.write(job.outputs, entry)
         if key is not None:
             freshness.mark_done(job.outputs, key)
         entry["ok"] = True

@@ -13,7 +13,8 @@ from pathlib import Path
 
 from .._core import core
 from ..settings import LodSettings
-from .lod_settings import DEFAULT_RATIOS, settings_from_args
+from .arguments import lod_settings
+
 
 def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
     """One object's report entry: lod.commit()'s report with its source as the level 0
@@ -26,6 +27,8 @@ def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
     if lod_output.input.settings.measure_deviation:
         source.update(hausdorff_percent=0.0, mean_percent=0.0)
     source.update(core.quality_summary(data.vertices, data.faces))
+    if rep.get("switch"):  # LOD0's switch numbers (switch_distances.py) go on its row
+        source.update(rep["switch"].pop("lod0"))
     previous = 0.0
     for level in rep["levels"]:
         # The engine's time is cumulative along the chain; the report gives each LOD its share.
@@ -37,14 +40,14 @@ def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
 
 
 def settings_summary(args) -> dict:
-    s = settings_from_args(args)
+    s = lod_settings(args)
     # The panel's settings but its chain and importance source, which follow as the
-    # options gave them. Named by LodSettings, not by the fields of the settings object,
-    # which has the command line's chain as well.
+    # options gave them: the chain as LodSettings computes it, the importance choice as
+    # given (it is made per object).
     panel_only = ("ratio", "levels", "level_factor", "target_triangles", "importance_source", "importance_group")
     out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
-    out.update(ratios=None if args.faces else list(args.ratios or DEFAULT_RATIOS),
-               faces=list(args.faces) if args.faces else None,
+    kind, chain = s.chain()
+    out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
                importance_group=args.importance_group, from_armature=bool(args.from_armature),
                lod_group=bool(args.lod_group))
     return out
