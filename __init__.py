@@ -8,6 +8,16 @@ The import of ``addon`` is deferred to those calls so that importing this packag
 """
 
 
+def __getattr__(name):
+    # The glTF exporter looks for this attribute on every enabled add-on's module
+    # (addon/gltf_lod.py); handed out on demand, so importing the package needs no bpy.
+    if name == "glTF2ExportUserExtension":
+        from .addon.gltf_lod import glTF2ExportUserExtension
+
+        return glTF2ExportUserExtension
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 def register():
     from . import addon
 

@@ -4,7 +4,8 @@
 Unity builds its LOD Group from the suffixes: the source is renamed "<name>_LOD0" next
 to the LODs "<name>_LOD1" .. "<name>_LODn" that lod.py makes. Unreal reads an FBX LOD
 group: an Empty "<name>_LODGroup" with the custom property fbx_type = "LodGroup", parent
-of the whole chain, which the FBX exporter writes as such.
+of the whole chain, which the FBX exporter writes as such; with a measured chain it also
+carries Unreal's screen size per level (docs/engines.md).
 
 A renamed source keeps its name before in a custom property, so a later run on the
 same file gives it back first: its earlier LODs (which record that name as their source)
@@ -19,6 +20,7 @@ from .settings import LodError
 
 BASE_NAME_PROP = "lod_base_name"  # on a source renamed "<name>_LOD0": its name before
 LOD_GROUP_SUFFIX = "_LODGroup"
+UNREAL_SCREEN_SIZE_PROP = "lqlod_unreal_screen_size_LOD"  # + level, on the LOD group
 
 
 def restore_base_names(scene) -> None:
@@ -54,6 +56,14 @@ def group_chain(context, base: str, chain: list):
         collection = next((c for c in source.users_collection if lod.in_scene(c, scene)), scene.collection)
         collection.objects.link(empty)
     empty["fbx_type"] = "LodGroup"
+    # Unreal's screen size per level (switch_distances.py), when the chain was measured:
+    # "lqlod_unreal_screen_size_LOD0" .. "_LODn", written by the FBX exporter as custom properties.
+    for key in [k for k in empty.keys() if k.startswith(UNREAL_SCREEN_SIZE_PROP)]:
+        del empty[key]
+    sizes = [ob.get(lod.switch_prop("unreal_screen_size")) for ob in chain]
+    if all(size is not None for size in sizes):
+        for level, size in enumerate(sizes):
+            empty[f"{UNREAL_SCREEN_SIZE_PROP}{level}"] = float(size)
     # The group takes LOD0's place in the hierarchy (an armature or bone parent stays).
     empty.parent = source.parent
     if source.parent is not None and source.parent_type == 'BONE':

@@ -30,11 +30,12 @@ def run_cli(argv, cwd, user_dir, timeout=600):
 
 
 STAMP_SUFFIX = ".lqlod.json"  # the up-to-date stamp beside a run's outputs (addon/headless/freshness.py)
+SIDECAR_SUFFIX = ".lods.json"  # the switch-data sidecar beside them (addon/headless/sidecar.py)
 
 
 def lod_files(folder):
-    """The files a run wrote into ``folder``, without its up-to-date stamps."""
-    return [p for p in folder.iterdir() if not p.name.endswith(STAMP_SUFFIX)]
+    """The files a run wrote into ``folder``, without its up-to-date stamps and sidecars."""
+    return [p for p in folder.iterdir() if not p.name.endswith((STAMP_SUFFIX, SIDECAR_SUFFIX))]
 
 
 def table_rows(stdout):
@@ -254,3 +255,31 @@ def test_script_mode_takes_the_options_after_double_dash(work):
     assert [f["ok"] for f in data["files"]] == [True, False]
     assert [lv["triangles"] for lv in data["files"][0]["objects"][0]["levels"]] == [2208, 1104]
     assert "Ball_LOD1" in table_rows(proc.stdout), proc.stdout
+
+
+def test_sample_writes_switch_data_in_the_sidecar_the_report_and_the_glb(sample):
+    """Issue 22 §2 through the command line (the bpy module, no installed extension: the
+    glTF exporter's hook comes from addon/headless/scene_files.gltf_hooks_visible)."""
+    from gltf_tools import glb_json, issue_summary, validate
+
+    assert sample["code"] == 0, sample["stderr"][-3000:]
+    sidecar = json.loads((sample["out"] / f"sample_LODs{SIDECAR_SUFFIX}").read_text())
+    assert sidecar["outputs"] == ["sample_LODs.blend", "sample_LODs.glb"]
+    assert sidecar["view"] == {"pixel_error": 1.0, "screen_height": 1080, "vertical_fov_degrees": 60.0}
+    objects = {o["object"]: o for o in sample["report"]["files"][0]["objects"]}
+    gltf = glb_json(sample["out"] / "sample_LODs.glb")
+    by_name = {n["name"]: i for i, n in enumerate(gltf["nodes"])}
+    assert "MSFT_lod" in gltf["extensionsUsed"]
+    for chain in sidecar["objects"]:
+        levels = objects[chain["object"]]["levels"]
+        assert [lv["name"] for lv in chain["levels"]] == [lv["name"] for lv in levels]
+        coverage = chain["gltf"]["MSFT_screencoverage"]
+        assert coverage == [lv["msft_screen_coverage"] for lv in levels]  # the report has the same numbers
+        assert chain["unreal"]["screen_sizes"] == [lv["unreal_screen_size"] for lv in levels]
+        assert all(a >= b for a, b in zip(coverage, coverage[1:])), coverage
+        top = gltf["nodes"][by_name[levels[0]["name"]]]
+        assert top["extensions"]["MSFT_lod"]["ids"] == [by_name[lv["name"]] for lv in levels[1:]]
+        assert top["extras"]["MSFT_screencoverage"] == pytest.approx(coverage)
+    report = validate(sample["out"] / "sample_LODs.glb")
+    print(issue_summary(report))
+    assert report["issues"]["numErrors"] == 0, issue_summary(report)

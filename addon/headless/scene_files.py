@@ -122,6 +122,33 @@ def load(job, show_output: bool) -> None:
         bpy.ops.object.mode_set(mode='OBJECT')
 
 
+# This extension's top-level package: "bl_ext.<repo>.line_quadric_lod" installed,
+# "line_quadric_lod" when the command line loads the checkout (addon/cli.py).
+PACKAGE = __package__.rsplit(".addon.headless", 1)[0]
+
+
+@contextlib.contextmanager
+def gltf_hooks_visible():
+    """List this package among the enabled add-ons while the glTF exporter runs, if it is
+    not already: the exporter takes user extensions (addon/gltf_lod.py) only from enabled
+    add-ons' modules, and the command line through the ``bpy`` module enables none.
+    Nothing is registered (the entry only names the module) and the entry goes after."""
+    import bpy
+
+    addons = bpy.context.preferences.addons
+    if PACKAGE in addons.keys() or PACKAGE not in sys.modules:
+        yield
+        return
+    entry = addons.new()
+    entry.module = PACKAGE
+    try:
+        yield
+    finally:
+        addon = addons.get(PACKAGE)
+        if addon is not None:
+            addons.remove(addon)
+
+
 def export_scene(path: Path) -> None:
     import bpy
 
@@ -132,9 +159,12 @@ def export_scene(path: Path) -> None:
     elif ext in (".glb", ".gltf"):
         # export_apply: the LODs were made from the evaluated meshes, so LOD0 must be
         # written evaluated too (the exporter leaves skinning to the glTF skin).
-        bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
-                                  use_selection=False, export_apply=True)
+        # The hooks add MSFT_lod and the switch data (addon/gltf_lod.py).
+        with gltf_hooks_visible():
+            bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
+                                      use_selection=False, export_apply=True)
     elif ext == ".fbx":
+        # use_custom_props: the switch data on the LOD objects and the LOD group (docs/engines.md).
         bpy.ops.export_scene.fbx(filepath=fp, use_selection=False, use_mesh_modifiers=True,
                                  use_custom_props=True, add_leaf_bones=False)
     elif ext == ".obj":
