@@ -24,6 +24,7 @@ import numpy as np
 import bpy
 
 from ._core import core
+from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
 from . import measure
@@ -60,6 +61,9 @@ class LodInput:
     names: dict  # attribute keys given to the core -> what they stand for
     warnings: list = field(default_factory=list)
     importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
+    # A chain by deviation: each LOD's largest allowed measured distance, scene units;
+    # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
+    deviations: Optional[list] = None
 
 
 @dataclass
@@ -209,10 +213,14 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     if len(data.faces) == 0:
         raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
     targets = settings.targets(len(data.faces), *chain_labels)
+    deviations = None
+    if settings.max_deviations is not None:
+        deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     g = _importance(source, settings, data.group_names, data.group_weights)
     options, names = _core_options(source, settings, data, g)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
-                    importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g))
+                    importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
+                    deviations=deviations)
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -330,6 +338,10 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     except ValueError as ex:
         raise LodError(f'"{lod_input.source_name}": {ex}') from ex
 
+    requested = [None] * len(results)
+    measured = {}
+    if lod_input.deviations is not None:
+        results, requested, measured = _by_deviation(lod_input, results, report_progress, simplify_share)
     levels, reports = [], []
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
@@ -337,7 +349,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         stats = result.stats
         entry = {
             "level": k,
-            "target": int(target),
+            "target": int(target) if requested[k - 1] is None else None,
             "triangles": int(len(result.faces)),
             "vertices": int(len(result.vertices)),
             "seconds": float(stats.seconds),
@@ -345,9 +357,12 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             "relaxation_step": int(stats.relaxation_step),
             "removed_components": int(stats.removed_components),
         }
-        if measuring:
-            rep = measure.mesh_report(data.vertices, data.faces, result.vertices, result.faces,
-                                      n_samples=DEVIATION_SAMPLES)
+        if requested[k - 1] is not None:
+            entry["requested_deviation"] = requested[k - 1]
+            entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / measure.bbox_diagonal(data.vertices, data.faces)
+        if measuring or requested[k - 1] is not None:
+            rep = measured.get(id(result)) or measure.mesh_report(
+                data.vertices, data.faces, result.vertices, result.faces, n_samples=DEVIATION_SAMPLES)
             entry.update({key: float(rep[key]) for key in (
                 "hausdorff_percent", "mean_percent", "mean_quality", "min_quality", "sliver_percent")})
         else:
@@ -356,7 +371,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             density = importance_density(lod_input.importance, result.vertex_origin)
             if density is not None:
                 entry["importance"] = density
-        if stats.stop_reason != core.STOP_TARGET:
+        if stats.stop_reason != core.STOP_TARGET and requested[k - 1] is None:
             why = core.STOP_REASON_TEXT.get(stats.stop_reason, stats.stop_reason)
             hint = "" if lod_input.settings.remove_small_components else \
                 " (Remove Small Parts lets it delete the smallest separate parts)"
@@ -366,6 +381,39 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         reports.append(entry)
     report_progress(1.0)
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
+
+
+def _by_deviation(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> tuple:
+    """(the rungs kept, each one's requested deviation, their measurements by id): per
+    requested deviation the coarsest rung measured within it (deviation_targets); a
+    deviation no rung meets is left out with a warning, and none met is a LodError."""
+    data = lod_input.data
+    reports = {}
+
+    def quick(i):
+        report_progress(simplify_share)  # lets Esc in between the measurements
+        return measure.surface_deviation(data.vertices, data.faces, rungs[i].vertices, rungs[i].faces,
+                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+
+    def exact(i):
+        report_progress(simplify_share)
+        reports[i] = measure.mesh_report(data.vertices, data.faces, rungs[i].vertices, rungs[i].faces,
+                                         n_samples=DEVIATION_SAMPLES)
+        return reports[i]["hausdorff"]
+
+    choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
+    kept = [c for c in choices if c.level is not None]
+    for c in choices:
+        if c.level is None:
+            lod_input.warnings.append(
+                f"no LOD within {c.deviation:.4g} (scene units): no level coarser than the one "
+                f"before (at most {len(rungs[0].faces):,} triangles) is measured within it")
+    if not kept:
+        raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
+                       f"{choices[0].deviation:.4g}: ask for a larger one")
+    lod_input.targets = [len(rungs[c.level].faces) for c in kept]
+    return ([rungs[c.level] for c in kept], [c.deviation for c in kept],
+            {id(rungs[c.level]): reports[c.level] for c in kept})
 
 
 # ----------------------------------------------------------------------------- commit

@@ -126,6 +126,11 @@ def _distances(tree, points: np.ndarray) -> np.ndarray:
     return d
 
 
+def bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
+    """The diagonal of the bounding box of the vertices ``f`` uses (what *_percent divide by)."""
+    return _bbox_diagonal(np.asarray(v, dtype=np.float64), np.asarray(f))
+
+
 def _bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
     used = v[np.unique(f)]
     return float(np.linalg.norm(used.max(0) - used.min(0)))

@@ -37,6 +37,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ._core import core
+from . import deviation_targets
 from .importance import DEFAULT_STRENGTH as DEFAULT_IMPORTANCE_STRENGTH
 
 
@@ -268,6 +269,13 @@ class _LodSettingsMethods:
         the labels are how the message names them (the command line: --ratios, --faces)."""
         if self.ratios is not None and self.triangle_counts is not None:
             return f"give {ratios_label} or {counts_label}, not both"
+        if self.max_deviations is not None:
+            if self.ratios is not None or self.triangle_counts is not None:
+                return f"give a chain by deviation or by {ratios_label} / {counts_label}, not both"
+            bad = [value for value, _ in self.max_deviations if not (np.isfinite(value) and value > 0)]
+            if bad or not self.max_deviations:
+                return "deviations must be positive numbers, got " + " ".join(f"{v:g}" for v in bad)
+            return None
         if self.ratios is not None:
             bad = [r for r in self.ratios if not (np.isfinite(r) and 0.0 < r < 1.0)]
             if bad or not self.ratios:
@@ -287,6 +295,8 @@ class _LodSettingsMethods:
         ``triangle_counts`` (the command line's) win; else the panel's geometric chain:
         ``levels`` LODs from ``target_triangles`` (or ``ratio``), each ``level_factor``
         of the one before."""
+        if self.max_deviations is not None:
+            return "deviations", [deviation_text(value, percent) for value, percent in self.max_deviations]
         if self.triangle_counts is not None:
             return "triangles", [int(n) for n in self.triangle_counts]
         if self.ratios is not None:
@@ -297,7 +307,13 @@ class _LodSettingsMethods:
 
     def targets(self, triangles: int, ratios_label: str = "ratios", counts_label: str = "triangle counts") -> list:
         """Triangle count of each LOD for a source of ``triangles`` triangles; LodError
-        when the chain cannot be made from it (the labels as in chain_problem)."""
+        when the chain cannot be made from it (the labels as in chain_problem). A chain
+        by deviation gives the ladder of rungs its search measures (deviation_targets)."""
+        if self.max_deviations is not None:
+            rungs = deviation_targets.ladder(triangles)
+            if not rungs:
+                raise LodError(f"a mesh of {triangles} triangles is too small for a LOD by deviation")
+            return rungs
         if self.triangle_counts is not None:
             counts = [int(n) for n in self.triangle_counts]
             if counts[0] >= triangles:
@@ -323,8 +339,33 @@ class _LodSettingsMethods:
                 f"use fewer levels or a larger first LOD")
         return counts
 
+    def deviations(self, diagonal: float) -> list:
+        """The chain by deviation in scene units, for a source whose bounding-box diagonal
+        is ``diagonal``; LodError unless they increase (each LOD coarser)."""
+        values = [value * diagonal / 100.0 if percent else value for value, percent in self.max_deviations]
+        if any(b <= a for a, b in zip(values, values[1:])):
+            raise LodError("deviations must increase (each LOD coarser than the one before), got "
+                           + " ".join(deviation_text(v, p) for v, p in self.max_deviations)
+                           + (f" (the bounding-box diagonal is {diagonal:g})" if any(p for _, p in self.max_deviations) else ""))
+        return values
+
     def _geometric(self, first: int) -> list:
         return [int(round(first * self.level_factor ** k)) for k in range(self.levels)]
+
+
+def parse_deviation(text: str) -> tuple:
+    """ "0.5%" -> (0.5, True): percent of the bounding-box diagonal; "0.01" -> (0.01, False):
+    scene units. ValueError for anything else."""
+    text = str(text).strip()
+    percent = text.endswith("%")
+    value = float(text[:-1] if percent else text)
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"a deviation must be a positive number, got {text!r}")
+    return value, percent
+
+
+def deviation_text(value: float, percent: bool) -> str:
+    return f"{value:g}%" if percent else f"{value:g}"
 
 
 def _not_decreasing(values, label, fmt) -> Optional[str]:
@@ -340,6 +381,11 @@ LodSettings = dataclasses.make_dataclass(
         # geometric one of ratio, levels, level_factor and target_triangles.
         ("ratios", Optional[tuple], None),
         ("triangle_counts", Optional[tuple], None),
+        # Or a chain by deviation (the command line's --max-error): per LOD the largest
+        # measured distance to the source allowed, (value, True) in percent of the
+        # source's bounding-box diagonal or (value, False) in scene units
+        # (addon/deviation_targets.py makes it).
+        ("max_deviations", Optional[tuple], None),
     ],
     bases=(_LodSettingsMethods,),
 )

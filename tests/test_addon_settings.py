@@ -13,7 +13,7 @@ from addon.settings import SETTINGS, LodError, LodSettings
 
 def test_lod_settings_are_the_table_plus_the_explicit_chain():
     fields = [f.name for f in dataclasses.fields(LodSettings)]
-    assert fields == [s.name for s in SETTINGS] + ["ratios", "triangle_counts"]
+    assert fields == [s.name for s in SETTINGS] + ["ratios", "triangle_counts", "max_deviations"]
     assert LodSettings.names() == [s.name for s in SETTINGS]
     assert len(set(LodSettings.names())) == len(SETTINGS)
     defaults = LodSettings()

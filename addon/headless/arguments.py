@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from ..settings import (IMPORTANCE_GROUP, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
+from ..settings import (IMPORTANCE_GROUP, parse_deviation, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
                         number, settings_from_arguments)
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
@@ -96,6 +96,15 @@ class _Parser(argparse.ArgumentParser):
         raise HelpShown()
 
 
+def _deviation(text):
+    try:
+        parse_deviation(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected a positive number, or a percentage such as 0.5%, got {text!r}") from None
+    return text.strip()
+
+
 def _positive_int(text):
     try:
         value = int(text)
@@ -142,6 +151,11 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         f"(default {' '.join(f'{r:g}' for r in LodSettings().chain()[1])})")
     t.add_argument("--faces", nargs="+", type=_positive_int, metavar="N",
                    help="triangle counts, e.g. 20000 5000 1000")
+    t.add_argument("--max-error", nargs="+", type=_deviation, metavar="D",
+                   help="the largest distance to the source each LOD may have, measured (two-sided "
+                        "Hausdorff): a number in scene units, or with %% in percent of the "
+                        "object's bounding-box diagonal, e.g. 0.1%% 0.5%% 2%%; each LOD is the "
+                        "fewest triangles measured within it")
 
     g = p.add_argument_group("simplification (the panel's settings)")
     add_arguments(g, ["line_weight", "min_quality", "feature_angle", "remove_small_components"])
@@ -225,7 +239,9 @@ def lod_settings(args, **overrides) -> LodSettings:
     --ratios or --faces list it, then ``overrides`` (each object's importance_source and
     importance_group). Neither option: the panel's default chain, spelled out as the list
     it is (LodSettings().chain()), so each LOD is that share of the source's triangles."""
-    if args.faces is not None:
+    if args.max_error is not None:
+        chain = {"max_deviations": tuple(parse_deviation(text) for text in args.max_error)}
+    elif args.faces is not None:
         chain = {"triangle_counts": tuple(args.faces)}
     elif args.ratios is not None:
         chain = {"ratios": tuple(args.ratios)}

@@ -48,6 +48,7 @@ def settings_summary(args) -> dict:
     out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
     kind, chain = s.chain()
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
+               **({"max_error": chain} if kind == "deviations" else {}),
                importance_group=args.importance_group, from_armature=bool(args.from_armature),
                lod_group=bool(args.lod_group))
     return out
@@ -94,6 +95,13 @@ class StreamedReport:
             self.file.close()
 
 
+def _target_cell(level: dict) -> str:
+    """The triangle count asked for, or for a LOD by deviation the bound it is within."""
+    if level.get("requested_deviation_percent") is not None:
+        return f"<={level['requested_deviation_percent']:.3g}%"
+    return _fmt(level.get("target"), ",")
+
+
 def _fmt(value, spec, empty="-"):
     return empty if value is None else format(value, spec)
 
@@ -107,7 +115,7 @@ def format_table(files: list) -> str:
             for level in obj["levels"]:
                 rows.append([
                     f["label"], level["name"], f"LOD{level['level']}", f"{level['triangles']:,}",
-                    _fmt(level.get("target"), ","),
+                    _target_cell(level),
                     _fmt(level.get("hausdorff_percent"), ".3f"), _fmt(level.get("mean_percent"), ".4f"),
                     f"{level['mean_quality']:.3f} / {level['min_quality']:.3f}",
                     f"{level['sliver_percent']:.2f}",
