@@ -25,23 +25,25 @@ import numpy as np
 
 LADDER_STEP = 0.85  # each rung keeps this share of the rung above's triangles
 LADDER_FLOOR = 4  # no rung below this many triangles (a tetrahedron)
+FIRST_RUNGS = (0.99, 0.97, 0.94, 0.9)  # shares of the source's triangles above the first step
 # Area samples a side for the estimates that steer the search (the report uses
 # measure.DEFAULT_SAMPLES); vertices are added either way.
 QUICK_SAMPLES = 50_000
 
 
 def ladder(triangles: int, step: float = LADDER_STEP, floor: int = LADDER_FLOOR) -> list:
-    """Decreasing triangle counts below ``triangles``: round(triangles * step**k), k >= 1,
-    down to ``floor`` (distinct, so every rung removes something)."""
+    """Decreasing triangle counts below ``triangles``: first the fine rungs of FIRST_RUNGS
+    (tight bounds on low-poly meshes allow only a few collapses), then
+    round(triangles * step**k), k >= 1, down to ``floor``; distinct, so every rung
+    removes something."""
+    shares = [r for r in FIRST_RUNGS if r > step] + [step ** k for k in range(1, 200)]
     counts = []
-    k = 1
-    while True:
-        count = int(round(triangles * step ** k))
+    for share in shares:
+        count = int(round(triangles * share))
         if count < floor:
             break
-        if not counts or count < counts[-1]:
+        if count < triangles and (not counts or count < counts[-1]):
             counts.append(count)
-        k += 1
     return counts
 
 
