@@ -3,12 +3,12 @@ with a stand-in child process; tests/test_cli_batch.py runs the real command lin
 import importlib.util
 import json
 import os
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
+
+from dask_cluster import scheduler_and_worker
 
 HEADLESS = Path(__file__).resolve().parent.parent / "addon" / "headless"
 
@@ -67,31 +67,11 @@ def test_no_retries_means_one_attempt():
     assert not entries[0]["ok"] and "attempts" not in entries[0]["error"], entries[0]["error"]
 
 
-def _dask_cli(*args):
-    return [sys.executable, "-m", "distributed.cli." + args[0], *args[1:]]
-
-
 def test_a_separately_started_scheduler_and_worker_run_the_batch(tmp_path):
     """The cluster path: `dask scheduler` and `dask worker` as their own processes, the
     batch submitted to the scheduler's address; the worker has no copy of our package."""
-    scheduler_file = tmp_path / "scheduler.json"
-    env = {**os.environ, "PYTHONPATH": ""}
-    procs = [subprocess.Popen(_dask_cli("dask_scheduler", "--scheduler-file", str(scheduler_file),
-                                        "--host", "127.0.0.1", "--port", "0", "--no-dashboard"),
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env)]
-    try:
-        deadline = time.monotonic() + 60
-        while not scheduler_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        address = json.loads(scheduler_file.read_text())["address"]
-        procs.append(subprocess.Popen(_dask_cli("dask_worker", address, "--nthreads", "1", "--no-dashboard"),
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env))
+    with scheduler_and_worker(tmp_path, {**os.environ, "PYTHONPATH": ""}) as address:
         entries = batch.run([asset("a"), asset("bad"), asset("crash")], scheduler=address, retries=1)
-    finally:
-        for proc in procs:
-            proc.terminate()
-        for proc in procs:
-            proc.wait(timeout=30)
     assert [e["ok"] for e in entries] == [True, False, False], entries
     assert "SIGABRT" in entries[2]["error"] and "2 attempts" in entries[2]["error"], entries[2]["error"]
 

@@ -6,13 +6,13 @@ import json
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 from bench.synthetic_meshes import uv_sphere
 from bpy_harness import REPO_ROOT, isolated_blender_env
+from dask_cluster import scheduler_and_worker
 
 pytest.importorskip("distributed", reason="dask[distributed] is a test dependency (requirements-dev.txt)")
 
@@ -137,28 +137,11 @@ def test_without_dask_several_jobs_say_how_to_get_it(tmp_path, library):
 
 
 def test_a_separately_started_scheduler_and_worker_run_the_batch(tmp_path, library):
-    env = {**os.environ, **isolated_blender_env(tmp_path / "user")}
-    scheduler_file = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--scheduler-file",
-                               str(scheduler_file), "--host", "127.0.0.1", "--port", "0", "--no-dashboard"],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env)]
-    try:
-        deadline = time.monotonic() + 60
-        while not scheduler_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        address = json.loads(scheduler_file.read_text())["address"]
-        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address,
-                                       "--nthreads", "2", "--no-dashboard"],
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path, env=env))
-        out = tmp_path / "cluster_out"
+    out = tmp_path / "cluster_out"
+    with scheduler_and_worker(tmp_path, {**os.environ, **isolated_blender_env(tmp_path / "user")}, threads=2) as address:
         code, stdout, stderr = run_cli(
             ["--input", *(str(library / "library" / n) for n in BALLS), "--ratios", "0.5", "--no-measure",
              "--output-dir", str(out), "--format", "obj", "--scheduler", address], library)
-    finally:
-        for proc in procs:
-            proc.terminate()
-        for proc in procs:
-            proc.wait(timeout=30)
     assert code == 0, stderr[-3000:]
     assert sorted(p.name for p in out.glob("*.obj")) == sorted(f"{Path(n).stem}_LODs.obj" for n in BALLS)
     assert "3 of 3 inputs done" in stdout, stdout[-1500:]
