@@ -227,6 +227,22 @@ class _ImportanceOperator:
             self.report({'ERROR'}, blocker)
         return bool(blocker)
 
+    def write_group(self, ob, group: str, compute):
+        """``compute()`` -> (per-vertex values in [0, 1], anything else), written into the
+        vertex group ``group``; returns compute's result, or None after reporting why not
+        (an expected problem in its own words, anything else with its type)."""
+        try:
+            result = compute()
+            vertex_groups.write_weights(ob, [group], result[0][:, None])
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return None
+        except Exception as ex:
+            traceback.print_exc()
+            self.report({'ERROR'}, f"{self.bl_label} failed ({type(ex).__name__}: {ex})")
+            return None
+        return result
+
 
 class OBJECT_OT_line_quadric_lod_paint(_ImportanceOperator, bpy.types.Operator):
     """Paint where detail matters: creates (or reuses) the vertex group "LOD_Importance" and enters Weight Paint mode on it"""
@@ -262,18 +278,15 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
         if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
-        try:
+
+        def skin_importance():
             names = vertex_groups.group_names(ob.data)
-            weights = vertex_groups.read_weights(ob.data, names)
-            g = lod.skin_importance_of(ob, names, weights)
-            vertex_groups.write_weights(ob, [IMPORTANCE_GROUP], g[:, None])
-        except LodError as ex:
-            self.report({'ERROR'}, str(ex))
+            return lod.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
+
+        written = self.write_group(ob, IMPORTANCE_GROUP, skin_importance)
+        if written is None:
             return {'CANCELLED'}
-        except Exception as ex:
-            traceback.print_exc()
-            self.report({'ERROR'}, f"Importance from Armature failed ({type(ex).__name__}: {ex})")
-            return {'CANCELLED'}
+        g = written[0]
         _use_importance_group(context, ob, ob.vertex_groups[IMPORTANCE_GROUP])
         joints = int(np.count_nonzero(g > 0))
         self.report({'INFO'}, f'"{IMPORTANCE_GROUP}": importance from the skin weights on {joints:,} of '
@@ -294,16 +307,10 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         ob = context.active_object
         settings = scene_settings(context)
         settings = LodSettings.from_properties(settings) if settings is not None else LodSettings()
-        try:
-            effective, painted = lod.importance_preview(ob, settings)
-            vertex_groups.write_weights(ob, [PREVIEW_GROUP], effective[:, None])
-        except LodError as ex:
-            self.report({'ERROR'}, str(ex))
+        written = self.write_group(ob, PREVIEW_GROUP, lambda: lod.importance_preview(ob, settings))
+        if written is None:
             return {'CANCELLED'}
-        except Exception as ex:
-            traceback.print_exc()
-            self.report({'ERROR'}, f"Preview Importance failed ({type(ex).__name__}: {ex})")
-            return {'CANCELLED'}
+        effective, painted = written
         # Shown, not selected for the LODs: the panel keeps reading the painted group.
         ob.vertex_groups.active_index = ob.vertex_groups[PREVIEW_GROUP].index
         if ob.mode != 'WEIGHT_PAINT':
