@@ -214,7 +214,7 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
     targets = settings.targets(len(data.faces), *chain_labels)
     deviations = None
-    if settings.max_deviations is not None:
+    if settings.deviation_chain() is not None:
         deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     g = _importance(source, settings, data.group_names, data.group_weights)
     options, names = _core_options(source, settings, data, g)

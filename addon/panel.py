@@ -19,6 +19,8 @@ from .operators import (
 def chain_preview(settings) -> str:
     """What the Target settings will make, e.g. "50% · 25% · 12.5%" (LodSettings.chain)."""
     kind, values = LodSettings.from_properties(settings).chain()
+    if kind == "deviations":
+        return " · ".join(f"≤{v}" for v in values) + " of the size"
     if kind == "triangles":
         return " · ".join(f"{c:,}" for c in values) + " triangles"
     return " · ".join(f"{100 * r:.3g}%" for r in values)
@@ -41,11 +43,18 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
 
         box = layout.box()
         box.label(text="Target", icon='MOD_DECIM')
+        box.row().prop(settings, "target_by", expand=True)
         col = box.column(align=True)
-        col.prop(settings, "target_triangles")
-        row = col.row(align=True)
-        row.active = settings.target_triangles == 0
-        row.prop(settings, "ratio")
+        if settings.target_by == 'DEVIATION':
+            col.prop(settings, "max_deviation")
+        elif settings.target_by == 'SCREEN':
+            col.prop(settings, "pixel_error")
+            col.prop(settings, "screen_height")
+        else:
+            col.prop(settings, "target_triangles")
+            row = col.row(align=True)
+            row.active = settings.target_triangles == 0
+            row.prop(settings, "ratio")
         col.prop(settings, "levels")
         col.prop(settings, "level_factor")
         box.label(text="LOD1..%d: %s" % (settings.levels, chain_preview(settings)))

@@ -60,6 +60,13 @@ IMPORTANCE_SOURCES = (
      "From the skin weights (paper Sec. 5.3): vertices shared by several deform bones, "
      "near joints, are kept so the LOD still bends well"),
 )
+TARGET_KINDS = (
+    ('COUNT', "Triangles", "A share of the source's triangles (Ratio) or a triangle count"),
+    ('DEVIATION', "Deviation", "The largest measured distance to the source, in percent of "
+                               "its bounding-box diagonal"),
+    ('SCREEN', "Screen Size", "The largest error in pixels when the object covers a given "
+                              "height on screen"),
+)
 # Kept only so files and scripts that set it still load: both act alike since issue 19.
 IMPORTANCE_MODES = (
     ('SOFT', "Soft", "No longer used: importance has one calibrated mode (see Strength)"),
@@ -156,6 +163,21 @@ SETTINGS = (
             blender={"min": 0.01, "max": 0.99, "subtype": 'FACTOR'}),
     Setting("target_triangles", 0, "Triangles", "Triangle count of the first LOD; 0 uses the Ratio instead",
             low=0, unit=" (0 uses the ratio)"),
+    Setting("target_by", 'COUNT', "By", "What the first LOD is asked for by (each next one then has Factor "
+            "as many triangles, or allows 1/Factor as much deviation)", items=TARGET_KINDS),
+    Setting("max_deviation", 0.5, "Deviation %",
+            "The first LOD's largest distance to the source, measured (two-sided Hausdorff), in "
+            "percent of the object's bounding-box diagonal: it gets the fewest triangles within it",
+            low=0.0, low_open=True, unit=" %", blender={"min": 0.001, "soft_max": 10.0, "precision": 3},
+            what="deviation"),
+    Setting("pixel_error", 1.0, "Pixel Error",
+            "The largest error, in pixels, the first LOD may show when the object covers Screen "
+            "Height pixels (deviation = object size x pixel error / screen height); each next LOD "
+            "is for 1/Factor the distance", low=0.0, low_open=True, unit=" px",
+            blender={"min": 0.01, "soft_max": 16.0}),
+    Setting("screen_height", 1080, "Screen Height",
+            "How many pixels tall the object is on screen where the first LOD takes over",
+            low=1, unit=" px", blender={"soft_max": 4320}),
     # Shape.
     Setting("line_weight", core.DEFAULT_LINE_WEIGHT, "Uniformity",
             "Line-quadric weight w for every vertex: higher gives more uniform, "
@@ -289,14 +311,26 @@ class _LodSettingsMethods:
             return _not_decreasing(counts, counts_label, str)
         return None
 
+    def deviation_chain(self) -> Optional[list]:
+        """The chain by deviation as (value, percent?) per LOD, or None for a chain by
+        triangles: the explicit max_deviations (the command line's), else the panel's By
+        Deviation / Screen Size, each next LOD allowing 1/level_factor as much."""
+        if self.max_deviations is not None:
+            return list(self.max_deviations)
+        if self.ratios is not None or self.triangle_counts is not None or self.target_by == 'COUNT':
+            return None
+        first = self.max_deviation if self.target_by == 'DEVIATION' else 100.0 * self.pixel_error / self.screen_height
+        return [(first / self.level_factor ** k, True) for k in range(self.levels)]
+
     def chain(self) -> tuple:
         """The LOD chain as the settings give it: ("ratios", fractions of the source's
         triangles) or ("triangles", counts), one entry per LOD. Explicit ``ratios`` or
         ``triangle_counts`` (the command line's) win; else the panel's geometric chain:
         ``levels`` LODs from ``target_triangles`` (or ``ratio``), each ``level_factor``
         of the one before."""
-        if self.max_deviations is not None:
-            return "deviations", [deviation_text(value, percent) for value, percent in self.max_deviations]
+        deviations = self.deviation_chain()
+        if deviations is not None:
+            return "deviations", [deviation_text(value, percent) for value, percent in deviations]
         if self.triangle_counts is not None:
             return "triangles", [int(n) for n in self.triangle_counts]
         if self.ratios is not None:
@@ -309,7 +343,7 @@ class _LodSettingsMethods:
         """Triangle count of each LOD for a source of ``triangles`` triangles; LodError
         when the chain cannot be made from it (the labels as in chain_problem). A chain
         by deviation gives the ladder of rungs its search measures (deviation_targets)."""
-        if self.max_deviations is not None:
+        if self.deviation_chain() is not None:
             rungs = deviation_targets.ladder(triangles)
             if not rungs:
                 raise LodError(f"a mesh of {triangles} triangles is too small for a LOD by deviation")
@@ -340,13 +374,14 @@ class _LodSettingsMethods:
         return counts
 
     def deviations(self, diagonal: float) -> list:
-        """The chain by deviation in scene units, for a source whose bounding-box diagonal
+        """deviation_chain() in scene units, for a source whose bounding-box diagonal
         is ``diagonal``; LodError unless they increase (each LOD coarser)."""
-        values = [value * diagonal / 100.0 if percent else value for value, percent in self.max_deviations]
+        chain = self.deviation_chain()
+        values = [value * diagonal / 100.0 if percent else value for value, percent in chain]
         if any(b <= a for a, b in zip(values, values[1:])):
             raise LodError("deviations must increase (each LOD coarser than the one before), got "
-                           + " ".join(deviation_text(v, p) for v, p in self.max_deviations)
-                           + (f" (the bounding-box diagonal is {diagonal:g})" if any(p for _, p in self.max_deviations) else ""))
+                           + " ".join(deviation_text(v, p) for v, p in chain)
+                           + (f" (the bounding-box diagonal is {diagonal:g})" if any(p for _, p in chain) else ""))
         return values
 
     def _geometric(self, first: int) -> list:

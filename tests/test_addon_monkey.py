@@ -148,7 +148,8 @@ def test_panel_draws_in_every_state(res):
 # What the docs' picture of the panel (bench/figures/fig_panel.py) shows with the default settings:
 # each field's label (RNA name or the panel's text override) and value as Blender formats it.
 PANEL_DEFAULTS = {
-    "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"], "levels": ["Levels", "3"],
+    "target_by": ["By", "Triangles"], "target_triangles": ["Triangles", "0"], "ratio": ["Ratio", "0.50"],
+    "levels": ["Levels", "3"],
     "level_factor": ["Factor", "0.50"], "remove_small_components": ["Remove Small Parts", ""],
     "line_weight": ["Uniformity", "0.0010"], "min_quality": ["Min Quality", "0.30"],
     "feature_angle": ["Feature Angle", "80.0"],
@@ -175,6 +176,14 @@ def test_panel_recording_names_values_and_greys_out(res):
     # Triangles > 0 greys out the Ratio, an option that is off greys out its strength.
     assert sorted(i[1] for i in items["greyed"] if not i[4]) == ["ratio", "seam_strength"]
     assert ["label", None, "LOD1..3: 20,000 · 10,000 · 5,000 triangles", None, True] in items["greyed"]
+
+    # By Deviation / Screen Size: their own fields instead of Triangles and Ratio, and the
+    # chain as the bounds each LOD is measured within.
+    for state, fields in (("by_deviation", {"max_deviation"}), ("by_screen", {"pixel_error", "screen_height"})):
+        props = {i[1] for i in items[state] if i[0] == "prop"}
+        assert fields <= props and not {"ratio", "target_triangles"} & props, (state, sorted(props))
+    assert ["label", None, "LOD1..3: ≤0.5% · ≤1% · ≤2% of the size", None, True] in items["by_deviation"], \
+        [i for i in items["by_deviation"] if i[0] == "label"]
 
 
 def test_paint_importance(res):

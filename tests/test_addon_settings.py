@@ -93,3 +93,15 @@ def test_command_line_options_come_from_the_table():
     assert st.argument_problems(bad) == ["--min-quality must be in [0, 1], got 2",
                                          "--feature-angle must be in [0, 180) degrees (0 = off), got 180",
                                          "--strength must be in [0, 1], got -1"]
+
+
+def test_the_panel_chain_by_deviation_and_by_screen_size():
+    by_deviation = LodSettings(target_by='DEVIATION', max_deviation=0.5, levels=3, level_factor=0.5)
+    assert by_deviation.deviation_chain() == [(0.5, True), (1.0, True), (2.0, True)]
+    assert by_deviation.chain() == ("deviations", ["0.5%", "1%", "2%"])
+    assert by_deviation.deviations(diagonal=4.0) == [0.02, 0.04, 0.08]
+    by_screen = LodSettings(target_by='SCREEN', pixel_error=2.0, screen_height=1000, levels=2, level_factor=0.5)
+    assert by_screen.deviation_chain() == [(0.2, True), (0.4, True)], "2 px of 1000 is 0.2 % of the size"
+    assert LodSettings().deviation_chain() is None, "the default chain is by triangles"
+    explicit = LodSettings(target_by='DEVIATION', ratios=(0.5,))
+    assert explicit.deviation_chain() is None, "an explicit chain by ratios wins over the panel's By"

@@ -57,3 +57,15 @@ def test_deviations_that_do_not_grow_or_are_not_numbers_are_named(sphere):
     code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--max-error", "1%", "--ratios", "0.5",
                                "--output-dir", str(sphere / "bad")], sphere)
     assert code == 2 and "not allowed with" in stderr, stderr[-2000:]
+
+
+def test_screen_size_with_lods_doubles_the_deviation_per_lod(sphere):
+    report = sphere / "screen.json"
+    code, stdout, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--screen-size", "2", "--lods", "3",
+                                    "--screen-height", "1000", "--output-dir", str(sphere / "screen"),
+                                    "--format", "obj", "--report", str(report)], sphere)
+    assert code == 0, stderr[-3000:]
+    levels = json.loads(report.read_text())["files"][0]["objects"][0]["levels"][1:]
+    asked = [level["requested_deviation_percent"] for level in levels]
+    assert asked == pytest.approx([0.2, 0.4, 0.8]), "2 px of 1000, then at twice and four times the distance"
+    assert all(level["hausdorff_percent"] <= pct for level, pct in zip(levels, asked)), levels

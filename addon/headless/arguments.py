@@ -153,6 +153,16 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "Hausdorff): a number in scene units, or with %% in percent of the "
                         "object's bounding-box diagonal, e.g. 0.1%% 0.5%% 2%%; each LOD is the "
                         "fewest triangles measured within it")
+    t.add_argument("--screen-size", nargs="+", type=number, metavar="PX",
+                   help="the largest error in pixels each LOD may show while the object covers "
+                        "--screen-height pixels (deviation = object size x PX / screen height, the "
+                        "size being its bounding-box diagonal), e.g. 1 2 4")
+    g.add_argument("--screen-height", type=_positive_int, default=1080, metavar="H",
+                   help="with --screen-size: how many pixels tall the object is on screen "
+                        "(default 1080, a full-height view at 1080p)")
+    g.add_argument("--lods", type=_positive_int, metavar="N",
+                   help="with one --max-error or --screen-size value: N LODs, each for twice the "
+                        "distance of the one before (twice the deviation), e.g. --screen-size 1 --lods 4")
 
     g = p.add_argument_group("simplification (the panel's settings)")
     add_arguments(g, ["line_weight", "min_quality", "feature_angle", "remove_small_components"])
@@ -209,6 +219,13 @@ def check_args(args) -> list:
     if chain:
         problems.append(chain)
     problems += argument_problems(args)
+    if args.screen_size is not None and any(px <= 0 for px in args.screen_size):
+        problems.append("--screen-size: pixel errors must be positive, got "
+                        + " ".join(f"{px:g}" for px in args.screen_size))
+    if args.lods is not None:
+        given = args.max_error if args.max_error is not None else args.screen_size
+        if given is None or len(given) != 1:
+            problems.append("--lods goes with one --max-error or --screen-size value (N LODs at doubling distances)")
     if args.importance_group is not None and not args.importance_group.strip():
         problems.append("--importance-group needs a vertex group name")
     if args.output is not None:
@@ -236,8 +253,9 @@ def lod_settings(args, **overrides) -> LodSettings:
     --ratios or --faces list it, then ``overrides`` (each object's importance_source and
     importance_group). Neither option: the panel's default chain, spelled out as the list
     it is (LodSettings().chain()), so each LOD is that share of the source's triangles."""
-    if args.max_error is not None:
-        chain = {"max_deviations": tuple(parse_deviation(text) for text in args.max_error)}
+    deviations = _deviation_chain(args)
+    if deviations is not None:
+        chain = {"max_deviations": deviations}
     elif args.faces is not None:
         chain = {"triangle_counts": tuple(args.faces)}
     elif args.ratios is not None:
@@ -246,6 +264,22 @@ def lod_settings(args, **overrides) -> LodSettings:
         kind, values = LodSettings().chain()
         chain = {"ratios" if kind == "ratios" else "triangle_counts": tuple(values)}
     return settings_from_arguments(args, **chain, **overrides)
+
+
+def _deviation_chain(args):
+    """--max-error or --screen-size as (value, percent?) per LOD, or None. A pixel error
+    becomes a percentage of the diagonal (100 * PX / H); one value with --lods N gives N
+    LODs at doubling distances, so doubling deviations."""
+    if args.max_error is not None:
+        values = [parse_deviation(text) for text in args.max_error]
+    elif args.screen_size is not None:
+        values = [(100.0 * px / args.screen_height, True) for px in args.screen_size]
+    else:
+        return None
+    if args.lods is not None and len(values) == 1:
+        value, percent = values[0]
+        values = [(value * 2 ** k, percent) for k in range(args.lods)]
+    return tuple(values)
 
 
 def option_argv(parser, args, skip) -> list:

@@ -338,6 +338,10 @@ def panel_draws(src, result: dict) -> None:
     draw("greyed")
     settings.target_triangles = 0
     settings.preserve_seams = True
+    for by in ('DEVIATION', 'SCREEN'):
+        settings.target_by = by
+        draw(f"by_{by.lower()}")
+    settings.target_by = 'COUNT'
     result["draw_items"] = draw_items
     result["draws"] = draws
     result["draw_settings"] = draw_settings
