@@ -509,7 +509,10 @@ def _switch_data(source, out) -> tuple:
     try:
         percent = [0.0] + [entry["hausdorff_percent"] for entry in out.reports]
         data = out.input.data
-        return switch_distances.chain_switch_data(percent, data.vertices, data.faces, world_scale(source)), None
+        settings = out.input.settings
+        return switch_distances.chain_switch_data(
+            percent, data.vertices, data.faces, world_scale(source), pixel_error=settings.pixel_error,
+            screen_height=settings.screen_height, vertical_fov_degrees=settings.vertical_fov), None
     except ValueError as ex:
         return None, f"no switch distances: {ex}"
 

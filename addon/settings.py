@@ -173,11 +173,26 @@ SETTINGS = (
     Setting("pixel_error", 1.0, "Pixel Error",
             "The largest error, in pixels, the first LOD may show when the object covers Screen "
             "Height pixels (deviation = object size x pixel error / screen height); each next LOD "
-            "is for 1/Factor the distance", low=0.0, low_open=True, unit=" px",
-            blender={"min": 0.01, "soft_max": 16.0}),
+            "is for 1/Factor the distance. Also the budget the engines' switch distances are "
+            "computed for (docs/engines.md)", low=0.0, low_open=True, unit=" px",
+            blender={"min": 0.01, "soft_max": 16.0}, flag="--pixel-error",
+            cli={"metavar": "PX", "help": "the on-screen error budget, in pixels, the engines' switch "
+                                          "distances are computed for (default {default:g})"}),
     Setting("screen_height", 1080, "Screen Height",
-            "How many pixels tall the object is on screen where the first LOD takes over",
-            low=1, unit=" px", blender={"soft_max": 4320}),
+            "How many pixels tall the object is on screen where the first LOD takes over (By "
+            "Screen Size), and the screen height of the engines' switch distances",
+            low=1, unit=" px", blender={"soft_max": 4320}, flag="--screen-height",
+            cli={"metavar": "H", "help": "screen height in pixels: with --screen-size how tall the object "
+                                         "is on screen, and the screen of the engines' switch distances "
+                                         "(default {default})"}),
+    Setting("vertical_fov", 60.0, "Field of View",
+            "The camera's vertical field of view, degrees, that the engines' switch distances "
+            "are computed for (screen shares do not depend on it)",
+            low=0.0, high=180.0, low_open=True, high_open=True, unit=" degrees",
+            blender={"min": 1.0, "max": 179.0, "precision": 1}, flag="--fov",
+            cli={"metavar": "DEG", "help": "vertical field of view, degrees, of the engines' switch "
+                                           "distances (default {default:g})"},
+            what="field of view"),
     # Shape.
     Setting("line_weight", core.DEFAULT_LINE_WEIGHT, "Uniformity",
             "Line-quadric weight w for every vertex: higher gives more uniform, "

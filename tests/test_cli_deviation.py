@@ -69,3 +69,16 @@ def test_screen_size_with_lods_doubles_the_deviation_per_lod(sphere):
     asked = [level["requested_deviation_percent"] for level in levels]
     assert asked == pytest.approx([0.2, 0.4, 0.8]), "2 px of 1000, then at twice and four times the distance"
     assert all(level["hausdorff_percent"] <= pct for level, pct in zip(levels, asked)), levels
+
+
+def test_the_view_of_the_switch_distances_is_set_on_the_command_line(sphere):
+    out = sphere / "view"
+    code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--ratios", "0.5", "--pixel-error", "2",
+                               "--fov", "90", "--screen-height", "720", "--output-dir", str(out), "--format", "obj"],
+                              sphere)
+    assert code == 0, stderr[-3000:]
+    sidecar = json.loads((out / "ball_LODs.lods.json").read_text())
+    assert sidecar["view"] == {"pixel_error": 2.0, "screen_height": 720.0, "vertical_fov_degrees": 90.0}
+    switch = sidecar["objects"][0]["switch"]
+    # Culled where the whole object (2R) would be the pixel budget: R H / (PX tan(fov / 2)).
+    assert switch["cull_distance"] == pytest.approx(switch["bounding_sphere_radius"] * 720 / 2.0), switch

@@ -157,9 +157,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="the largest error in pixels each LOD may show while the object covers "
                         "--screen-height pixels (deviation = object size x PX / screen height, the "
                         "size being its bounding-box diagonal), e.g. 1 2 4")
-    g.add_argument("--screen-height", type=_positive_int, default=1080, metavar="H",
-                   help="with --screen-size: how many pixels tall the object is on screen "
-                        "(default 1080, a full-height view at 1080p)")
+    add_arguments(g, ["screen_height"])
     g.add_argument("--lods", type=_positive_int, metavar="N",
                    help="with one --max-error or --screen-size value: N LODs, each for twice the "
                         "distance of the one before (twice the deviation), e.g. --screen-size 1 --lods 4")
@@ -185,6 +183,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "one of blend glb gltf fbx obj, else blend; blend glb for --sample)")
     g.add_argument("--lod-group", action="store_true",
                    help='parent each chain to an Empty with fbx_type = "LodGroup" (Unreal)')
+    add_arguments(g, ["pixel_error", "vertical_fov"])
     g.add_argument("--report", metavar="FILE.json",
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
                         "triangle quality; a name ending in .jsonl gets one line per input as "

@@ -45,7 +45,7 @@ def settings_summary(args) -> dict:
     # options gave them: the chain as LodSettings computes it, the importance choice as
     # given (it is made per object).
     panel_only = ("ratio", "levels", "level_factor", "target_triangles", "target_by", "max_deviation",
-                  "pixel_error", "screen_height", "importance_source", "importance_group")
+                  "importance_source", "importance_group")
     out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
     kind, chain = s.chain()
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,

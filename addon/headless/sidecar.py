@@ -44,14 +44,23 @@ def _chain(obj: dict) -> dict:
     return chain
 
 
+def _view(entry: dict) -> dict:
+    """The view the numbers were computed for (the run's --pixel-error, --screen-height,
+    --fov), as the chains' switch data carries it."""
+    for obj in entry["objects"]:
+        if obj.get("switch"):
+            return {key: obj["switch"][key] for key in ("pixel_error", "screen_height", "vertical_fov_degrees")}
+    return {"pixel_error": sd.DEFAULT_PIXEL_ERROR, "screen_height": sd.DEFAULT_SCREEN_HEIGHT,
+            "vertical_fov_degrees": sd.DEFAULT_VERTICAL_FOV_DEGREES}
+
+
 def content(entry: dict) -> dict:
     """The sidecar of one input's report entry (one_input.process)."""
     return {
         "format": FORMAT,
         "input": entry["input"],
         "outputs": [Path(p).name for p in entry["outputs"]],
-        "view": {"pixel_error": sd.DEFAULT_PIXEL_ERROR, "screen_height": sd.DEFAULT_SCREEN_HEIGHT,
-                 "vertical_fov_degrees": sd.DEFAULT_VERTICAL_FOV_DEGREES},
+        "view": _view(entry),
         "units": "distances in scene units (Blender: metres at unit scale 1); screen values as a share "
                  "of the screen height; see docs/engines.md",
         "objects": [_chain(obj) for obj in entry["objects"]],
