@@ -164,6 +164,10 @@ def _core_options(obj, settings, data, g) -> tuple:
     for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
         cattr[f"uv{i}"] = corners
         uvs.append(f"uv{i}")
+    if data.custom_normals is not None:
+        # Carried like any corner attribute: a corner keeps (or interpolates) its source
+        # corners' normals, and a hard edge, where the normals differ, stays a split.
+        cattr["normal"] = data.custom_normals
 
     feature_sets = []
     if settings.preserve_sharp:
@@ -311,7 +315,14 @@ def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
         sharp_edges=sharp,
         seam_edges=seam,
         seam_region=data.seam_region[fo] if data.seam_region is not None else None,
+        custom_normals=_unit(ca["normal"]) if "normal" in ca else None,
     )
+
+
+def _unit(vectors: np.ndarray) -> np.ndarray:
+    """Rows scaled to length 1 (an interpolated normal is shorter); zero rows stay zero."""
+    length = np.linalg.norm(vectors, axis=-1, keepdims=True)
+    return np.divide(vectors, length, out=np.zeros_like(vectors), where=length > 1e-12)
 
 
 def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] = None) -> LodOutput:

@@ -76,6 +76,9 @@ class MeshData:
     sharp_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
     seam_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
     seam_region: Optional[np.ndarray] = None  # (m,) per triangle: the region between seams
+    # (m, 3, 3) unit normal per triangle corner when the mesh has custom split normals
+    # (an artist's or a Weighted Normal modifier's shading), else None.
+    custom_normals: Optional[np.ndarray] = None
 
     @property
     def has_shape_keys(self) -> bool:
@@ -125,6 +128,12 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
             continue
         colors.append(ColorLayer(attr.name, attr.domain, attr.data_type, data))
 
+    custom_normals = None
+    if mesh.has_custom_normals and n_loops:
+        # corner_normals (Blender 4.1+) are the split normals as shaded, custom ones included.
+        normals = _get(mesh.corner_normals, "vector", n_loops, np.float32, 3).astype(np.float64)
+        custom_normals = normals.reshape(n_loops, 3)[tri_loops]
+
     n_edges = len(mesh.edges)
     edge_verts = _get(mesh.edges, "vertices", n_edges, np.int32, 2).astype(np.int64).reshape(n_edges, 2)
     sharp_attr = mesh.attributes.get("sharp_edge")
@@ -141,6 +150,7 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
     weights = vertex_groups.read_weights(mesh, names, method=group_method) if names else np.zeros((n, 0))
 
     return MeshData(
+        custom_normals=custom_normals,
         vertices=verts,
         faces=tris,
         material_index=poly_mat[tri_poly].astype(np.int64),
@@ -318,6 +328,9 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         if len(data.seam_edges):
             mesh.edges.foreach_set("use_seam", edge_util.mark_edges(edge_verts, data.seam_edges, n))
         mesh.update()
+        if data.custom_normals is not None:
+            # Loops were written in triangle-corner order, so corner k is loop k.
+            mesh.normals_split_custom_set(np.asarray(data.custom_normals, dtype=np.float64).reshape(-1, 3))
     except Exception:
         vertex_groups.remove_mesh(mesh)
         raise

@@ -1,0 +1,23 @@
+"""LODs shade like their source (issue 22 §3): custom split normals are carried to every
+LOD corner, whatever they are (normals pointing up for foliage, flat shading from custom
+normals alone)."""
+import pytest
+
+from bpy_harness import run_scenario
+
+
+@pytest.fixture(scope="module")
+def res(blender_user_dir):
+    return run_scenario("addon_custom_normals", user_dir=blender_user_dir, timeout=600)
+
+
+def test_normals_pointing_up_stay_up(res):
+    up = res["up"]
+    assert up["has_custom"], "the LOD lost its custom normals"
+    assert up["largest_angle"] < 1.0, f"expected every corner normal within 1 degree of up, got {up['largest_angle']:.2f}"
+
+
+def test_flat_shading_from_custom_normals_stays_flat(res):
+    flat = res["flat"]
+    assert flat["has_custom"], "the LOD lost its custom normals"
+    assert flat["mean_angle"] < 2.0 and flat["largest_angle"] < 10.0, flat
