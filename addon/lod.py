@@ -24,6 +24,7 @@ import numpy as np
 import bpy
 
 from ._core import core
+from . import bake
 from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
@@ -589,6 +590,10 @@ def commit(context_or_scene, outputs: list) -> list:
             switch["lod0"] = per_level[0]
         if why_not:
             out.input.warnings.append(why_not)
+        if out.input.settings.bake_normals:
+            out.input.warnings.extend(bake.bake_chain(
+                bpy.context, source, objects, levels, out.input.settings.bake_resolution,
+                measure.bbox_diagonal(data.vertices, data.faces)))
         reports.append({
             "object": source.name,
             "collection": coll.name,

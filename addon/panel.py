@@ -101,6 +101,11 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "use_modifiers")
         col.prop(settings, "measure_deviation")
+        row = col.row(align=True)
+        row.prop(settings, "bake_normals")
+        sub = row.row(align=True)
+        sub.active = settings.bake_normals
+        sub.prop(settings, "bake_resolution", text="")
         # The button carries the panel's settings (the operator remembers none itself), so
         # Adjust Last Operation afterwards starts from exactly what the panel showed.
         op = layout.operator(OBJECT_OT_line_quadric_lod.bl_idname, icon='MOD_DECIM')

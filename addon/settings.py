@@ -271,6 +271,11 @@ SETTINGS = (
             "Simplify the mesh as the modifiers make it (Armature modifiers excepted: "
             "each LOD gets its own); off: the base mesh",
             flag="--no-modifiers", cli={"help": "simplify the base meshes, ignoring their modifiers"}),
+    Setting("bake_normals", False, "Bake Normals",
+            "Bake the detail each LOD lost into a tangent-space normal map (Cycles, from the "
+            "source), used by copies of its materials; needs a UV map"),
+    Setting("bake_resolution", 1024, "Resolution", "Width and height of each baked normal map, pixels",
+            low=8, unit=" px", blender={"max": 16384, "soft_max": 4096}),
     Setting("measure_deviation", True, "Measure Deviation",
             "Measure each LOD's distance to the source for the report "
             "(takes about a second per LOD on large meshes)",

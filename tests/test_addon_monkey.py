@@ -159,6 +159,7 @@ PANEL_DEFAULTS = {
     "preserve_sharp": ["Sharp Edges", ""], "sharp_strength": ["", "1.00"],
     "preserve_materials": ["Material Borders", ""], "material_strength": ["", "1.00"],
     "use_modifiers": ["Apply Modifiers", ""], "measure_deviation": ["Measure Deviation", ""],
+    "bake_normals": ["Bake Normals", ""], "bake_resolution": ["", "1024"],
 }
 
 
@@ -168,13 +169,14 @@ def test_panel_recording_names_values_and_greys_out(res):
     assert shown == PANEL_DEFAULTS
     assert [i[2] for i in items["NONE"] if i[0] == "operator"] == [
         "Paint Importance", "Importance from Armature", "Generate LODs"]
-    assert all(i[4] for i in items["NONE"])  # nothing greyed out by default
+    # Nothing greyed out by default but the bake's resolution (Bake Normals is off).
+    assert [i[1] for i in items["NONE"] if not i[4]] == ["bake_resolution"], [i for i in items["NONE"] if not i[4]]
     assert ["label", None, "LOD1..3: 50% · 25% · 12.5%", None, True] in items["NONE"]
     group = {i[1]: i[2:4] for i in items["VERTEX_GROUP"] if i[0] in ("prop", "prop_search")}
     assert group["importance_group"] == ["Group", "Top"]
     assert "importance_mode" not in group and group["importance_strength"] == ["Strength", "0.50"]
     # Triangles > 0 greys out the Ratio, an option that is off greys out its strength.
-    assert sorted(i[1] for i in items["greyed"] if not i[4]) == ["ratio", "seam_strength"]
+    assert sorted(i[1] for i in items["greyed"] if not i[4]) == ["bake_resolution", "ratio", "seam_strength"]
     assert ["label", None, "LOD1..3: 20,000 · 10,000 · 5,000 triangles", None, True] in items["greyed"]
 
     # By Deviation / Screen Size: their own fields instead of Triangles and Ratio, and the

@@ -184,6 +184,9 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     g.add_argument("--lod-group", action="store_true",
                    help='parent each chain to an Empty with fbx_type = "LodGroup" (Unreal)')
     add_arguments(g, ["pixel_error", "vertical_fov"])
+    g.add_argument("--bake-normals", type=_whole_number(8), metavar="RES",
+                   help="bake each LOD's lost detail into a RES x RES tangent-space normal map "
+                        "(Cycles, from the source; needs UVs), used by copies of its materials")
     g.add_argument("--report", metavar="FILE.json",
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
                         "triangle quality; a name ending in .jsonl gets one line per input as "
@@ -262,6 +265,8 @@ def lod_settings(args, **overrides) -> LodSettings:
     else:
         kind, values = LodSettings().chain()
         chain = {"ratios" if kind == "ratios" else "triangle_counts": tuple(values)}
+    if getattr(args, "bake_normals", None):
+        chain.update(bake_normals=True, bake_resolution=args.bake_normals)
     return settings_from_arguments(args, **chain, **overrides)
 
 
