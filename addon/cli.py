@@ -63,7 +63,11 @@ def main(argv=None, prog: Optional[str] = None) -> int:
         console.error(dask_tasks.DASK_MISSING)
         return EXIT_USAGE
     t0 = time.perf_counter()
-    stream = report.StreamedReport(Path(args.report)) if report.is_streamed(args.report) else None
+    try:
+        stream = report.StreamedReport(Path(args.report)) if report.is_streamed(args.report) else None
+    except OSError as ex:
+        console.error(f"cannot write the report {args.report}: {ex.strerror or ex}")
+        return EXIT_USAGE
     on_result = stream.add if stream is not None else (lambda entry: None)
     try:
         if distributed:
@@ -97,6 +101,9 @@ def main(argv=None, prog: Optional[str] = None) -> int:
     except KeyboardInterrupt:
         console.error("interrupted: files being written were left as they were")
         return EXIT_INTERRUPTED
+    except dask_tasks.SchedulerError as ex:
+        console.error(str(ex))
+        return EXIT_USAGE
     except Exception as ex:  # our own bug: still one line unless asked for details
         if args.debug:
             traceback.print_exc()

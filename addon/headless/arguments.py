@@ -22,10 +22,10 @@ from typing import Optional
 
 from ..settings import (IMPORTANCE_GROUP, parse_deviation, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
                         number, settings_from_arguments)
+from .dask_tasks import SCHEDULER_ENV
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
 
-SCHEDULER_ENV = "LQLOD_SCHEDULER"  # the Dask scheduler to use when --scheduler is not given
 DEFAULT_RETRIES = 2
 # Options that say how to run, not what to make: they are not part of an input's
 # up-to-date key, and the batch gives its children its own values of them.
@@ -150,7 +150,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="triangle counts, e.g. 20000 5000 1000")
     t.add_argument("--max-error", nargs="+", type=_deviation, metavar="D",
                    help="the largest distance to the source each LOD may have, measured (two-sided "
-                        "Hausdorff): a number in scene units, or with %% in percent of the "
+                        "Hausdorff): a number in the object's own units, or with %% in percent of the "
                         "object's bounding-box diagonal, e.g. 0.1%% 0.5%% 2%%; each LOD is the "
                         "fewest triangles measured within it")
     t.add_argument("--screen-size", nargs="+", type=number, metavar="PX",
@@ -217,9 +217,10 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
 def check_args(args) -> list:
     """Problems with option values that argparse cannot see (one message each)."""
     problems = []
-    chain = lod_settings(args).chain_problem(*CHAIN_LABELS)
-    if chain:
-        problems.append(chain)
+    if args.screen_height >= 1:  # else --screen-size's chain cannot be computed (said below)
+        chain = lod_settings(args).chain_problem(*CHAIN_LABELS)
+        if chain:
+            problems.append(chain)
     problems += argument_problems(args)
     if args.screen_size is not None and any(px <= 0 for px in args.screen_size):
         problems.append("--screen-size: pixel errors must be positive, got "

@@ -36,6 +36,7 @@ from typing import Callable, Optional
 DASK_MISSING = ("batch work on several processes or a cluster needs Dask: "
                 "pip install 'dask[distributed]' (./lod.sh provisions it), or use --jobs 1")
 SCHEDULER_ENV = "LQLOD_SCHEDULER"  # the cluster to use when --scheduler is not given
+USAGE_STATUS = 2  # the command line's exit status for input it refuses (cli.EXIT_USAGE)
 STDERR_LINES_KEPT = 20
 
 
@@ -46,6 +47,10 @@ class Asset:
     label: str
     input: str
     command: list
+
+
+class SchedulerError(RuntimeError):
+    """The cluster named by --scheduler cannot be used; the message says why."""
 
 
 class AssetCrashed(RuntimeError):
@@ -73,9 +78,12 @@ def run_asset(asset: Asset) -> dict:
     os.close(fd)
     os.unlink(report)  # the child writes it atomically; no file means no report
     try:
+        # Without the scheduler variable: the child runs its one input itself instead of
+        # submitting it to the cluster again.
+        env = {key: value for key, value in os.environ.items() if key != SCHEDULER_ENV}
         proc = subprocess.Popen(
             asset.command + ["--report", report], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE, text=True, errors="replace")
+            stderr=subprocess.PIPE, text=True, errors="replace", env=env)
         running, lock = _children_registry()
         with lock:
             running.add(proc)
@@ -89,6 +97,10 @@ def run_asset(asset: Asset) -> dict:
             with open(report, encoding="utf-8") as fh:
                 entry = json.load(fh)["files"][0]
         except (OSError, ValueError, KeyError, IndexError):
+            if proc.returncode == USAGE_STATUS:  # the command line refused the input: no retry
+                return {"input": asset.input, "label": asset.label, "ok": False,
+                        "error": _crash_reason(proc.returncode, lines), "outputs": [], "objects": [],
+                        "warnings": [], "seconds": 0.0}
             raise AssetCrashed(_crash_reason(proc.returncode, lines)) from None
         entry["label"] = asset.label
         return entry
@@ -179,8 +191,8 @@ def open_client(jobs: int, scheduler: Optional[str]):
     if scheduler:
         try:
             client = distributed.Client(scheduler, timeout="20s")
-        except OSError as ex:
-            raise RuntimeError(f"cannot reach the Dask scheduler at {scheduler}: {ex}") from None
+        except (OSError, ValueError, TimeoutError) as ex:
+            raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler}: {ex}") from None
         # dashboard_link is a template even when the scheduler serves no dashboard.
         served = "dashboard" in client.scheduler_info().get("services", {})
         return client, None, client.dashboard_link if served else None
