@@ -62,7 +62,8 @@ class LodInput:
     names: dict  # attribute keys given to the core -> what they stand for
     warnings: list = field(default_factory=list)
     importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
-    # A chain by deviation: each LOD's largest allowed measured distance, scene units;
+    # A chain by deviation: each LOD's largest allowed measured distance, in the object's
+    # own (local) units, like the mesh data;
     # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
     deviations: Optional[list] = None
 
@@ -334,7 +335,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     """
     t0 = time.perf_counter()
     measuring = lod_input.settings.measure_deviation
-    simplify_share = progress_share(measuring)
+    simplify_share = progress_share(measuring or lod_input.deviations is not None)
 
     def report_progress(fraction):
         if progress is not None and progress(min(max(fraction, 0.0), 1.0)) is False:
@@ -418,8 +419,8 @@ def _by_deviation(lod_input: LodInput, rungs: list, report_progress, simplify_sh
     for c in choices:
         if c.level is None:
             lod_input.warnings.append(
-                f"no LOD within {c.deviation:.4g} (scene units): no level coarser than the one "
-                f"before (at most {len(rungs[0].faces):,} triangles) is measured within it")
+                f"no LOD within {c.deviation:.4g} (the object's units): no level coarser than the "
+                f"one before is measured within it")
     if not kept:
         raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
                        f"{choices[0].deviation:.4g}: ask for a larger one")

@@ -317,6 +317,11 @@ class _LodSettingsMethods:
             bad = [value for value, _ in self.max_deviations if not (np.isfinite(value) and value > 0)]
             if bad or not self.max_deviations:
                 return "deviations must be positive numbers, got " + " ".join(f"{v:g}" for v in bad)
+            if len({percent for _, percent in self.max_deviations}) == 1:  # comparable before any mesh
+                values = [value for value, _ in self.max_deviations]
+                if any(b <= a for a, b in zip(values, values[1:])):
+                    return ("deviations must increase (each LOD coarser than the one before), got "
+                            + " ".join(deviation_text(v, p) for v, p in self.max_deviations))
             return None
         if self.ratios is not None:
             bad = [r for r in self.ratios if not (np.isfinite(r) and 0.0 < r < 1.0)]

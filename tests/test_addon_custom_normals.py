@@ -14,10 +14,10 @@ def res(blender_user_dir):
 def test_normals_pointing_up_stay_up(res):
     up = res["up"]
     assert up["has_custom"], "the LOD lost its custom normals"
-    assert up["largest_angle"] < 1.0, f"expected every corner normal within 1 degree of up, got {up['largest_angle']:.2f}"
+    assert up["largest_angle"] < 0.5, f"expected every corner normal within 0.5 degree of up, got {up['largest_angle']:.2f}"
 
 
 def test_flat_shading_from_custom_normals_stays_flat(res):
     flat = res["flat"]
     assert flat["has_custom"], "the LOD lost its custom normals"
-    assert flat["mean_angle"] < 2.0 and flat["largest_angle"] < 10.0, flat
+    assert flat["mean_angle"] < 0.01 and flat["largest_angle"] < 0.1, flat

@@ -50,7 +50,14 @@ def test_each_lod_is_measured_within_its_deviation_and_close_to_it(sphere):
 def test_deviations_that_do_not_grow_or_are_not_numbers_are_named(sphere):
     code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--max-error", "1%", "0.5%",
                                "--output-dir", str(sphere / "bad")], sphere)
-    assert code == 1 and "deviations must increase" in stderr, stderr[-2000:]
+    assert code == 2 and "deviations must increase" in stderr, stderr[-2000:]  # before any input loads
+    # Units and percentages compare only on a mesh (its diagonal, 3.46 here): 0.02 > 0.5 %.
+    code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--max-error", "0.02", "0.5%",
+                               "--output-dir", str(sphere / "bad")], sphere)
+    assert code == 1 and "deviations must increase" in stderr and "diagonal" in stderr, stderr[-2000:]
+    code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--screen-size", "1", "--screen-height", "0",
+                               "--output-dir", str(sphere / "bad")], sphere)
+    assert code == 2 and "--screen-height must be" in stderr and "Traceback" not in stderr, stderr[-2000:]
     code, _, stderr = run_cli(["--input", str(sphere / "ball.obj"), "--max-error", "abc",
                                "--output-dir", str(sphere / "bad")], sphere)
     assert code == 2 and "a percentage such as 0.5%" in stderr, stderr[-2000:]

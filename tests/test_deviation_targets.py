@@ -41,9 +41,12 @@ def test_choices_are_the_coarsest_rungs_within_each_bound(steps, deviations):
 def test_every_choice_is_measured_within_its_bound_even_when_distance_wiggles():
     rng = np.random.default_rng(3)
     hausdorff = np.cumsum(rng.uniform(0, 1, 40)) * rng.uniform(0.8, 1.2, 40)  # not monotone
+    chosen = 0
     for d in (2.0, 5.0, 11.0, 30.0):
         (choice,) = dt.choose_levels([d], len(hausdorff), lambda i: hausdorff[i])
         assert choice.level is None or hausdorff[choice.level] <= d, (d, choice)
+        chosen += choice.level is not None
+    assert chosen >= 3, "the larger bounds must find a level"
 
 
 def test_bad_requests_are_named():

@@ -27,7 +27,9 @@ class TimeLeft:
 
     def __init__(self, inputs, later: float):
         self.simplify_left = sum(len(i.data.faces) - i.targets[-1] for i in inputs)
-        self.measure_left = sum(len(i.targets) for i in inputs if i.settings.measure_deviation)
+        # LODs to measure (a chain by deviation: its bounds; its targets are the search's rungs).
+        self.measure_left = sum(len(i.targets) if i.deviations is None else len(i.deviations)
+                                for i in inputs if i.settings.measure_deviation or i.deviations is not None)
         self.simplify_done = self.simplify_seconds = 0.0
         self.measure_done = self.measure_seconds = 0.0
         self.later = later
@@ -68,12 +70,19 @@ class ProgressLines(ObjectObserver):
         self.input = lod_input
         m = len(lod_input.data.faces)
         targets = lod_input.targets
-        self.console.progress(f"[{self.label}] {lod_input.source_name}: {m:,} triangles -> "
-                              + ", ".join(f"LOD{k} {t:,}" for k, t in enumerate(targets, start=1)))
         self.removed = max(m - targets[-1], 1)
-        # The engine reports (faces removed) / (faces to remove down to the last target).
-        self.marks = [(m - t) / self.removed for t in targets]
-        self.measuring = lod_input.settings.measure_deviation
+        if lod_input.deviations is not None:
+            # A chain by deviation: the targets are the search's rungs, not LODs; the LODs
+            # are known when it is done.
+            self.console.progress(f"[{self.label}] {lod_input.source_name}: {m:,} triangles -> LODs within "
+                                  + ", ".join(f"{d:.4g}" for d in lod_input.deviations) + " (measured)")
+            self.marks = []
+        else:
+            self.console.progress(f"[{self.label}] {lod_input.source_name}: {m:,} triangles -> "
+                                  + ", ".join(f"LOD{k} {t:,}" for k, t in enumerate(targets, start=1)))
+            # The engine reports (faces removed) / (faces to remove down to the last target).
+            self.marks = [(m - t) / self.removed for t in targets]
+        self.measuring = lod_input.settings.measure_deviation or lod_input.deviations is not None
         self.share = progress_share(self.measuring)  # how lod.compute splits its fraction
         self.next = 0
         self.t0 = time.perf_counter()
@@ -106,7 +115,7 @@ class ProgressLines(ObjectObserver):
             self.next += 1
         now = time.perf_counter()
         simplified = self.t_simplified or now
-        measured = len(self.marks) if self.measuring else 0
+        measured = len(lod_output.levels) if self.measuring else 0
         self.estimate.record(self.removed, simplified - self.t0, measured, now - simplified)
         self.console.progress(f"[{self.label}] {self.input.source_name}: done in {now - self.t0:.1f} s "
                               f"(about {duration(self.estimate.left())} left)")
