@@ -40,8 +40,9 @@ OWNER_KEY = "line_quadric_lod_gltf_owner"
 def chain_key(ob):
     """(name of the chain's source before any renaming, level) of a measured chain member,
     or None for an object that is none."""
-    if lod.switch_prop("switch_distance") not in ob:
-        return None
+    needed = ("switch_distance", "msft_screen_coverage", *GODOT_EXTRAS.values())
+    if any(lod.switch_prop(name) not in ob for name in needed):
+        return None  # not a measured chain member (or a hand-edited one missing its numbers)
     if lod.LEVEL_PROP in ob and lod.SOURCE_PROP in ob:
         return ob[lod.SOURCE_PROP], int(ob[lod.LEVEL_PROP])
     base = ob.get(BASE_NAME_PROP)
