@@ -24,7 +24,9 @@ def _bake_scene(scene, view_layer, objects):
     """Cycles at one sample, the given objects visible and selectable, the rest as it was."""
     saved = {
         "engine": scene.render.engine,
-        "selected": [ob for ob in view_layer.objects if ob.select_get(view_layer=view_layer)],
+        # (A view layer can list None for an object removed in the same call, such as the
+        # LODs a new run replaces, until the next update.)
+        "selected": [ob for ob in view_layer.objects if ob is not None and ob.select_get(view_layer=view_layer)],
         "active": view_layer.objects.active,
         "hidden": {ob.name: (ob.hide_get(view_layer=view_layer), ob.hide_select, ob.hide_render) for ob in objects},
     }
@@ -42,7 +44,8 @@ def _bake_scene(scene, view_layer, objects):
             ob.hide_set(hidden, view_layer=view_layer)
             ob.hide_select, ob.hide_render = no_select, no_render
         for ob in view_layer.objects:
-            ob.select_set(False, view_layer=view_layer)
+            if ob is not None:
+                ob.select_set(False, view_layer=view_layer)
         for ob in saved["selected"]:
             ob.select_set(True, view_layer=view_layer)
         view_layer.objects.active = saved["active"]
@@ -120,7 +123,8 @@ def bake_chain(context, source, lods: list, levels: list, resolution: int, diago
             materials = _own_materials(lod)
             nodes = _image_nodes(materials, image)
             for ob in view_layer.objects:
-                ob.select_set(False, view_layer=view_layer)
+                if ob is not None:
+                    ob.select_set(False, view_layer=view_layer)
             source.select_set(True, view_layer=view_layer)
             lod.select_set(True, view_layer=view_layer)
             view_layer.objects.active = lod

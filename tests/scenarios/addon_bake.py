@@ -21,8 +21,10 @@ def run(resolution: int = 64) -> dict:
     nodes_before = len(material.node_tree.nodes)
 
     lod = extension_module("addon.lod")
-    report = lod.generate_lods(bpy.context, src, lod.LodSettings(levels=2, ratio=0.1, bake_normals=True,
-                                                                 bake_resolution=resolution))
+    settings = lod.LodSettings(levels=2, ratio=0.1, bake_normals=True, bake_resolution=resolution)
+    # Twice: the second run replaces the first's LODs, removed in the same call as the bake.
+    lod.generate_lods(bpy.context, src, settings)
+    report = lod.generate_lods(bpy.context, src, settings)
     result = {"warnings": report["warnings"], "source_material": src.data.materials[0].name,
               "source_nodes_unchanged": len(material.node_tree.nodes) == nodes_before, "lods": []}
     for level in report["levels"]:
