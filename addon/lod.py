@@ -517,8 +517,8 @@ def world_scale(ob) -> float:
 
 def _switch_data(source, out) -> tuple:
     """(switch_distances.chain_switch_data of the chain, or None, and why not)."""
-    if not out.input.settings.measure_deviation:
-        return None, None  # nothing measured, nothing to say: the panel's choice
+    if not all("hausdorff_percent" in entry for entry in out.reports):
+        return None, None  # nothing measured (Measure Deviation off), nothing to say
     try:
         percent = [0.0] + [entry["hausdorff_percent"] for entry in out.reports]
         data = out.input.data

@@ -114,5 +114,11 @@ def test_companion_files_count_in_the_key(tmp_path):
 
     obj = tmp_path / "rock.obj"
     (tmp_path / "rock.mtl").write_text("newmtl stone\n")
-    obj.write_text("mtllib rock.mtl\nv 0 0 0\n")
-    assert freshness.companion_files(obj) == [(tmp_path / "rock.mtl").resolve()]
+    (tmp_path / "moss.mtl").write_text("newmtl moss\n")
+    obj.write_text("mtllib rock.mtl moss.mtl\nv 0 0 0\n")
+    assert freshness.companion_files(obj) == [(tmp_path / "rock.mtl").resolve(), (tmp_path / "moss.mtl").resolve()]
+
+    spaced = tmp_path / "big rock.gltf"
+    (tmp_path / "big rock.bin").write_bytes(b"\0" * 4)
+    spaced.write_text(json.dumps({"asset": {"version": "2.0"}, "buffers": [{"uri": "big%20rock.bin"}]}))
+    assert freshness.companion_files(spaced) == [(tmp_path / "big rock.bin").resolve()], "URIs are percent-encoded"

@@ -44,6 +44,8 @@ def asset_for(job: InputJob, args, base: list) -> dask_tasks.Asset:
         argv += ["--output-dir", str(job.outputs[0].parent), "--format", *(o.suffix[1:] for o in job.outputs)]
     if args.force:
         argv.append("--force")
+    if args.debug:  # the child's traceback, not only the parent's "--debug shows details"
+        argv.append("--debug")
     return dask_tasks.Asset(job.label, str(job.path) if job.path else job.label, argv)
 
 

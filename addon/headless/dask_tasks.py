@@ -194,7 +194,11 @@ def open_client(jobs: int, scheduler: Optional[str]):
         except (OSError, ValueError, TimeoutError) as ex:
             raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler}: {ex}") from None
         # dashboard_link is a template even when the scheduler serves no dashboard.
-        served = "dashboard" in client.scheduler_info().get("services", {})
+        try:
+            served = "dashboard" in client.scheduler_info().get("services", {})
+        except BaseException:
+            client.close()
+            raise
         return client, None, client.dashboard_link if served else None
     # Worker threads, not processes: a task only starts its Blender process and waits,
     # so threads isolate crashes just as well, start at once, and need no re-import of
@@ -202,7 +206,11 @@ def open_client(jobs: int, scheduler: Optional[str]):
     cluster = distributed.LocalCluster(
         n_workers=1, threads_per_worker=jobs, processes=False, dashboard_address=None,
         silence_logs=logging.ERROR)
-    return distributed.Client(cluster), cluster, None
+    try:
+        return distributed.Client(cluster), cluster, None
+    except BaseException:
+        cluster.close()
+        raise
 
 
 def close_client(client, cluster) -> None:

@@ -16,6 +16,7 @@ import json
 import os
 import re
 from pathlib import Path
+from urllib.parse import unquote
 from typing import Optional
 
 STAMP_SUFFIX = ".lqlod.json"
@@ -36,11 +37,12 @@ def companion_files(path: Path) -> list:
     try:
         if suffix == ".gltf":
             data = json.loads(path.read_text(encoding="utf-8"))
-            names = [item.get("uri", "") for key in ("buffers", "images") for item in data.get(key, [])]
+            # URIs are percent-encoded ("my%20rock.bin").
+            names = [unquote(item.get("uri", "")) for key in ("buffers", "images") for item in data.get(key, [])]
         elif suffix == ".obj":
             with open(path, encoding="utf-8", errors="replace") as fh:
-                names = [m.group(1).strip() for line in fh
-                         if (m := re.match(r"\s*mtllib\s+(.+)", line))]
+                names = [name for line in fh if (m := re.match(r"\s*mtllib\s+(.+)", line))
+                         for name in m.group(1).split()]
     except (OSError, ValueError, AttributeError):
         return []  # the importer will say what is wrong with the file itself
     files = []
