@@ -7,6 +7,10 @@ report = args[args.index("--report") + 1]
 what = args[0]
 if what == "crash":
     os.abort()
+if what.startswith("sleep:"):  # a long asset: the pid file says it started
+    open(what.split(":", 1)[1], "w").write(str(os.getpid()))
+    import time
+    time.sleep(60)
 if what.startswith("flaky:"):
     marker = what.split(":", 1)[1]
     if not os.path.exists(marker):

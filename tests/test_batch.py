@@ -4,6 +4,7 @@ import importlib.util
 import json
 import os
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -60,6 +61,27 @@ def test_clean_failures_are_not_retried(tmp_path):
     entries = batch.run([batch.Asset("bad", "bad", [sys.executable, str(child), "bad"])], jobs=1, retries=2)
     assert not entries[0]["ok"]
     assert counter.read_text() == "x", f"ran {len(counter.read_text())} times, expected once"
+
+
+def test_a_stopped_batch_leaves_no_child_running(tmp_path):
+    """Ctrl-C: stop_running_children ends the running children, and retries that come
+    after it do not start new ones."""
+    import threading
+
+    pids = [tmp_path / f"{i}.pid" for i in range(2)]
+    result = {}
+    runner = threading.Thread(target=lambda: result.update(
+        entries=batch.run([asset(f"sleep:{p}") for p in pids], jobs=2, retries=2)))
+    runner.start()
+    deadline = time.monotonic() + 60
+    while not all(p.exists() and p.read_text() for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    batch.stop_running_children()
+    runner.join(timeout=60)
+    assert not runner.is_alive(), "the batch did not end after its children were stopped"
+    for p in pids:
+        assert not Path(f"/proc/{p.read_text()}").exists() or "zombie" in Path(f"/proc/{p.read_text()}/status").read_text().lower(), p
+    assert all(not e["ok"] for e in result["entries"]), result
 
 
 def test_no_retries_means_one_attempt():

@@ -61,6 +61,7 @@ class AssetCrashed(RuntimeError):
 # interrupted local batch stops them instead of leaving Blender running on its own.
 _running: set = set()
 _running_lock = threading.Lock()
+_stopping = {"now": False}  # set by stop_running_children: no new child starts after it
 
 
 def _children_registry() -> tuple:
@@ -68,8 +69,8 @@ def _children_registry() -> tuple:
     # workers, where a lock cannot go (nor is there anything to stop from here).
     module = sys.modules.get(__name__)
     if module is None or not hasattr(module, "_running"):
-        return set(), threading.Lock()
-    return module._running, module._running_lock
+        return set(), threading.Lock(), {"now": False}
+    return module._running, module._running_lock, module._stopping
 
 
 def run_asset(asset: Asset) -> dict:
@@ -81,11 +82,13 @@ def run_asset(asset: Asset) -> dict:
         # Without the scheduler variable: the child runs its one input itself instead of
         # submitting it to the cluster again.
         env = {key: value for key, value in os.environ.items() if key != SCHEDULER_ENV}
-        proc = subprocess.Popen(
-            asset.command + ["--report", report], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE, text=True, errors="replace", env=env)
-        running, lock = _children_registry()
-        with lock:
+        running, lock, stopping = _children_registry()
+        with lock:  # started and registered at once, so a stop cannot miss it
+            if stopping["now"]:
+                raise AssetCrashed("the batch was stopped before this input started")
+            proc = subprocess.Popen(
+                asset.command + ["--report", report], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE, text=True, errors="replace", env=env)
             running.add(proc)
         try:
             _, stderr = proc.communicate()
@@ -112,6 +115,7 @@ def run_asset(asset: Asset) -> dict:
 def stop_running_children(timeout: float = 10.0) -> None:
     """Terminate the children this process started (then kill those that linger)."""
     with _running_lock:
+        _stopping["now"] = True
         procs = list(_running)
     for proc in procs:
         if proc.poll() is None:
@@ -121,6 +125,7 @@ def stop_running_children(timeout: float = 10.0) -> None:
             proc.wait(timeout=timeout)
         except subprocess.TimeoutExpired:
             proc.kill()
+            proc.wait()
 
 
 def _crash_reason(code: int, lines: list) -> str:
@@ -236,6 +241,8 @@ def run(assets: list, *, jobs: int = 1, scheduler: Optional[str] = None, retries
 def run_on(client, assets: list, *, retries: int = 2,
            on_result: Optional[Callable[[dict], object]] = None) -> list:
     distributed = _dask()
+    with _running_lock:
+        _stopping["now"] = False  # a new batch in this process
     stamp = f"{time.time_ns():x}"
     futures = [client.submit(_ByValue(functools.partial(run_asset, asset)), key=f"lod-{stamp}-{i}",
                              retries=retries, pure=False)
@@ -258,7 +265,7 @@ def run_on(client, assets: list, *, retries: int = 2,
             if on_result is not None:
                 on_result(entry)
     finally:
-        for future in futures:
-            if not future.done():
-                future.cancel()
+        pending = [future for future in futures if not future.done()]
+        if pending:
+            client.cancel(pending)  # one message to the scheduler, not one per future
     return entries
