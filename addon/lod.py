@@ -264,7 +264,7 @@ def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dic
 # ----------------------------------------------------------------------------- compute
 
 
-def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
+def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float = 0.0) -> mesh_io.MeshData:
     fo = result.face_origin
     va, ca = result.vertex_attributes, result.corner_attributes
     n_out = len(result.vertices)
@@ -283,6 +283,9 @@ def _output_mesh(data: mesh_io.MeshData, result, names) -> mesh_io.MeshData:
     faces = result.faces
     # Normals split where the source's did: between faces of different smoothing regions.
     sharp = edge_util.differing_edges(faces, smooth_group) if len(data.sharp_edges) else np.empty((0, 2), np.int64)
+    if hard_edge_angle > 0 and "normal" not in ca:
+        sharp = edge_util.unique_edges(np.concatenate(
+            [sharp.reshape(-1, 2), core.features.sharp_edges(result.vertices, faces, hard_edge_angle)]))
     if len(data.seam_edges):
         # Seams where the source had them: between triangles from regions the seams
         # separated, and, for seams that cut into a region (a cylinder's), where the UVs
@@ -358,7 +361,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     levels, reports = [], []
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        levels.append(_output_mesh(data, result, lod_input.names))
+        levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
         entry = {
             "level": k,

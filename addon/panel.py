@@ -101,6 +101,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "use_modifiers")
         col.prop(settings, "measure_deviation")
+        col.prop(settings, "hard_edge_angle")
         row = col.row(align=True)
         row.prop(settings, "bake_normals")
         sub = row.row(align=True)

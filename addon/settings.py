@@ -271,6 +271,14 @@ SETTINGS = (
             "Simplify the mesh as the modifiers make it (Armature modifiers excepted: "
             "each LOD gets its own); off: the base mesh",
             flag="--no-modifiers", cli={"help": "simplify the base meshes, ignoring their modifiers"}),
+    Setting("hard_edge_angle", 0.0, "Hard Edges",
+            "Degrees: LOD edges whose faces' normals differ by more than this are marked sharp, "
+            "so a LOD of a mesh shaded by angle keeps hard edges where simplifying made new "
+            "ones. 0 = off (custom normals, when the source has them, decide instead)",
+            low=0.0, high=180.0, high_open=True, unit=" degrees (0 = off)",
+            blender={"max": 179.0, "precision": 1}, flag="--hard-edge-angle",
+            cli={"metavar": "DEG", "help": "mark LOD edges sharper than DEG degrees as sharp (hard shading); "
+                                           "default {default:g} = off"}),
     Setting("bake_normals", False, "Bake Normals",
             "Bake the detail each LOD lost into a tangent-space normal map (Cycles, from the "
             "source), used by copies of its materials; needs a UV map"),

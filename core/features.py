@@ -83,3 +83,15 @@ def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.n
     cosine = np.einsum("ij,ij->i", into, out) / np.maximum(length, 1e-300)
     corner[v[cosine < np.cos(np.radians(angle_degrees))]] = True
     return corner
+
+
+def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle_degrees: float) -> np.ndarray:
+    """(k, 2) vertex pairs of the interior edges of ``faces`` (m, 3) whose faces' normals
+    differ by more than ``angle_degrees``: where a mesh shaded by angle (Blender's Smooth by
+    Angle) shows a hard edge."""
+    from .geometry import face_frames
+    from .topology import build
+
+    conn = build(np.asarray(faces, dtype=np.int64), len(vertices))
+    normals, _ = face_frames(np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64))
+    return conn.edges[crease_edges(normals, conn, angle_degrees)]

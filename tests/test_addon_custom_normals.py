@@ -21,3 +21,12 @@ def test_flat_shading_from_custom_normals_stays_flat(res):
     flat = res["flat"]
     assert flat["has_custom"], "the LOD lost its custom normals"
     assert flat["mean_angle"] < 0.01 and flat["largest_angle"] < 0.1, flat
+
+
+def test_hard_edges_mark_the_creases_of_a_mesh_shaded_by_angle(res):
+    assert res["hard_0"]["sharp"] == 0, res["hard_0"]  # off: nothing marked
+    hard = res["hard_30"]
+    assert hard["sharp"] >= 12, f"expected the cube's 12 edges (in segments) marked sharp, got {hard}"
+    # Mostly the cube's edges; a few LOD triangles fold across them near the corners, and
+    # those folds are creases of the LOD too.
+    assert hard["on_cube_edges"] >= 0.8 * hard["sharp"], f"expected mostly the cube's edges sharp: {hard}"

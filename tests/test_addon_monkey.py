@@ -159,7 +159,7 @@ PANEL_DEFAULTS = {
     "preserve_sharp": ["Sharp Edges", ""], "sharp_strength": ["", "1.00"],
     "preserve_materials": ["Material Borders", ""], "material_strength": ["", "1.00"],
     "use_modifiers": ["Apply Modifiers", ""], "measure_deviation": ["Measure Deviation", ""],
-    "bake_normals": ["Bake Normals", ""], "bake_resolution": ["", "1024"],
+    "hard_edge_angle": ["Hard Edges", "0.0"], "bake_normals": ["Bake Normals", ""], "bake_resolution": ["", "1024"],
 }
 
 

@@ -183,7 +183,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "one of blend glb gltf fbx obj, else blend; blend glb for --sample)")
     g.add_argument("--lod-group", action="store_true",
                    help='parent each chain to an Empty with fbx_type = "LodGroup" (Unreal)')
-    add_arguments(g, ["pixel_error", "vertical_fov"])
+    add_arguments(g, ["pixel_error", "vertical_fov", "hard_edge_angle"])
     g.add_argument("--bake-normals", type=_whole_number(8), metavar="RES",
                    help="bake each LOD's lost detail into a RES x RES tangent-space normal map "
                         "(Cycles, from the source; needs UVs), used by copies of its materials")

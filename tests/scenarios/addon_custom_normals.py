@@ -56,4 +56,27 @@ def run() -> dict:
     angles = np.degrees(np.arccos(np.clip(cos, -1, 1)))
     result["flat"] = {"has_custom": lod_mesh.has_custom_normals, "triangles": len(lod_mesh.polygons),
                       "mean_angle": float(angles.mean()), "largest_angle": float(angles.max())}
+
+    # Hard Edges: a smooth-shaded cube without sharp edges or custom normals.
+    remove_all_objects()
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    bpy.ops.object.modifier_add(type='SUBSURF')
+    cube.modifiers[0].subdivision_type = 'SIMPLE'
+    cube.modifiers[0].levels = 3
+    bpy.ops.object.modifier_apply(modifier=cube.modifiers[0].name)
+    bpy.ops.object.shade_smooth()
+    for angle in (0.0, 30.0):
+        lod_mesh = lod_of(cube, ratio=0.2, hard_edge_angle=angle).data
+        attr = lod_mesh.attributes.get("sharp_edge")
+        sharp = np.zeros(len(lod_mesh.edges), dtype=bool)
+        if attr is not None:
+            attr.data.foreach_get("value", sharp)
+        ends = np.empty(2 * len(lod_mesh.edges), dtype=np.int64)
+        lod_mesh.edges.foreach_get("vertices", ends)
+        co = np.empty(3 * len(lod_mesh.vertices))
+        lod_mesh.vertices.foreach_get("co", co)
+        co = co.reshape(-1, 3)[ends.reshape(-1, 2)[sharp]]  # (k, 2, 3)
+        on_cube_edge = (np.abs(np.abs(co) - 1.0) < 1e-5).sum(axis=2) >= 2  # two coordinates at +-1
+        result[f"hard_{angle:g}"] = {"sharp": int(sharp.sum()), "on_cube_edges": int(on_cube_edge.all(axis=1).sum())}
     return result
