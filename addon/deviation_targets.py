@@ -26,6 +26,10 @@ import numpy as np
 LADDER_STEP = 0.85  # each rung keeps this share of the rung above's triangles
 LADDER_FLOOR = 4  # no rung below this many triangles (a tetrahedron)
 FIRST_RUNGS = (0.99, 0.97, 0.94, 0.9)  # shares of the source's triangles above the first step
+# A level kept at less than this share of its bound is refined between its rung and the
+# next (a second run; see lod._refine): the issue's "within a factor 2" of the request.
+REFINE_BELOW = 0.5
+REFINE_STEPS = 8  # counts tried between two rungs
 # Area samples a side for the estimates that steer the search (the report uses
 # measure.DEFAULT_SAMPLES); vertices are added either way.
 QUICK_SAMPLES = 50_000
@@ -121,3 +125,9 @@ def choose_levels(deviations: Sequence[float], levels: int, quick: Callable[[int
             below = choice.level
         choices.append(choice)
     return choices
+
+
+def between(finer: int, coarser: int, steps: int = REFINE_STEPS) -> list:
+    """Up to ``steps`` decreasing triangle counts strictly between two rungs' counts."""
+    counts = np.unique(np.round(np.linspace(finer, coarser, steps + 2)[1:-1]).astype(int))[::-1]
+    return [int(c) for c in counts if coarser < c < finer]

@@ -427,9 +427,45 @@ def _by_deviation(lod_input: LodInput, rungs: list, report_progress, simplify_sh
     if not kept:
         raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
                        f"{choices[0].deviation:.4g}: ask for a larger one")
-    lod_input.targets = [len(rungs[c.level].faces) for c in kept]
-    return ([rungs[c.level] for c in kept], [c.deviation for c in kept],
-            {id(rungs[c.level]): reports[c.level] for c in kept})
+    chosen = []
+    for c in kept:
+        level, report = rungs[c.level], reports[c.level]
+        if c.hausdorff < deviation_targets.REFINE_BELOW * c.deviation and c.level + 1 < len(rungs):
+            level, report = _refine(lod_input, level, report, rungs[c.level + 1], c.deviation, report_progress,
+                                    simplify_share)
+        chosen.append((level, report))
+    lod_input.targets = [len(level.faces) for level, _ in chosen]
+    return ([level for level, _ in chosen], [c.deviation for c in kept],
+            {id(level): report for level, report in chosen})
+
+
+def _refine(lod_input: LodInput, within, within_report, beyond, deviation, report_progress, simplify_share):
+    """Between two adjacent rungs, ``within`` the bound at far less than it and ``beyond``
+    it (a low-poly mesh, where one rung removes a large step of error): a second run
+    snapshots counts between them and the coarsest measured within the bound is kept
+    (else ``within``). Returns (level, its report)."""
+    data = lod_input.data
+    counts = deviation_targets.between(len(within.faces), len(beyond.faces))
+    if not counts:
+        return within, within_report
+    levels = core.simplify_chain(data.vertices, data.faces, counts, lod_input.core_options)
+    reports = {}
+
+    def quick(i):
+        report_progress(simplify_share)
+        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
+                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+
+    def exact(i):
+        report_progress(simplify_share)
+        reports[i] = measure.mesh_report(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
+                                         n_samples=DEVIATION_SAMPLES)
+        return reports[i]["hausdorff"]
+
+    choice = deviation_targets.Search(quick, exact).coarsest_within(deviation, len(levels))
+    if choice.level is None:
+        return within, within_report
+    return levels[choice.level], reports[choice.level]
 
 
 # ----------------------------------------------------------------------------- commit

@@ -64,3 +64,10 @@ def test_the_kept_rung_is_confirmed_by_the_exact_measurement():
     exact[6] = 9.0
     (choice,) = dt.choose_levels([6.5], 10, lambda i: quick[i], lambda i: exact[i])
     assert (choice.level, choice.hausdorff) == (5, 5.0), choice
+
+
+def test_counts_between_two_rungs():
+    assert dt.between(576, 558) == [574, 572, 570, 568, 566, 564, 562, 560]
+    assert dt.between(10, 9) == [], "nothing lies between adjacent counts"
+    counts = dt.between(1000, 900, steps=3)
+    assert counts == sorted(counts, reverse=True) and all(900 < c < 1000 for c in counts), counts
