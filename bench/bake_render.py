@@ -8,7 +8,8 @@ For each mesh (default: a bumpy UV sphere the bench makes, and spot.obj from
 (addon/lod.py), once plain and once with Bake Normals. Each is rendered by Cycles from
 the same camera and light, with a plain grey material, as is the source; the error is
 the mean absolute difference of the rendered grey levels over the pixels the source
-covers (0-1). Prints a markdown table.
+covers (0-1). Prints a markdown table. ``--image PNG`` also writes the first mesh's
+three renders side by side (source, LOD, LOD with the baked map): docs/panel.md shows it.
 """
 from __future__ import annotations
 
@@ -100,7 +101,9 @@ def main(argv=None) -> int:
     ap.add_argument("--ratio", type=float, default=0.1)
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--bake", type=int, default=1024)
+    ap.add_argument("--image", type=Path, help="write the first mesh's three renders side by side")
     args = ap.parse_args(argv)
+    strip = []
     cases = args.meshes or [None, _bootstrap.DEFAULT_MESH_DIR / "spot.obj"]
     print(header("mesh", "triangles", "LOD triangles", "error plain", "error baked", "baked / plain"))
     for case in cases:
@@ -113,6 +116,8 @@ def main(argv=None) -> int:
         errors, tris = {}, 0
         reference = render(scene, src, args.size)
         mask = reference[..., 3] > 0.5
+        if not strip:
+            strip.append(reference)
         for bake in (False, True):
             report = lod_module.generate_lods(bpy.context, src, lod_module.LodSettings(
                 levels=1, ratio=args.ratio, bake_normals=bake, bake_resolution=args.bake))
@@ -120,10 +125,25 @@ def main(argv=None) -> int:
             tris = len(lod.data.polygons)
             image = render(scene, lod, args.size)
             errors[bake] = float(np.abs(image[..., :3] - reference[..., :3]).mean(axis=-1)[mask].mean())
+            if len(strip) < 3 and case == cases[0]:
+                strip.append(image)
         name = "bumpy sphere" if case is None else case.name
         print(row(name, f"{len(src.data.polygons):,}", f"{tris:,}", f"{errors[False]:.4f}", f"{errors[True]:.4f}",
                   f"{errors[True] / errors[False]:.2f}"), flush=True)
+    if args.image and len(strip) == 3:
+        write_png(args.image, np.concatenate(strip, axis=1))
     return 0
+
+
+def write_png(path: Path, pixels: np.ndarray) -> None:
+    """``pixels`` (h, w, 4) floats, bottom row first as Blender keeps them, to a PNG."""
+    h, w = pixels.shape[:2]
+    image = bpy.data.images.new("strip", w, h, alpha=True)
+    image.pixels.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
+    image.filepath_raw = str(path)
+    image.file_format = 'PNG'
+    image.save()
+    bpy.data.images.remove(image)
 
 
 if __name__ == "__main__":
