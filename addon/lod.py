@@ -399,24 +399,31 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
 
 
+def _measurers(data, levels: list, tick) -> tuple:
+    """(quick(i), exact(i), reports): level i's two-sided Hausdorff distance to the source,
+    estimated with fewer samples or measured as the report measures it (its full report
+    kept in ``reports[i]``); ``tick()`` before each lets Esc in between the measurements."""
+    reports = {}
+
+    def quick(i):
+        tick()
+        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
+                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+
+    def exact(i):
+        tick()
+        reports[i] = measure.mesh_report(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
+                                         n_samples=DEVIATION_SAMPLES)
+        return reports[i]["hausdorff"]
+
+    return quick, exact, reports
+
+
 def _by_deviation(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> tuple:
     """(the rungs kept, each one's requested deviation, their measurements by id): per
     requested deviation the coarsest rung measured within it (deviation_targets); a
     deviation no rung meets is left out with a warning, and none met is a LodError."""
-    data = lod_input.data
-    reports = {}
-
-    def quick(i):
-        report_progress(simplify_share)  # lets Esc in between the measurements
-        return measure.surface_deviation(data.vertices, data.faces, rungs[i].vertices, rungs[i].faces,
-                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
-
-    def exact(i):
-        report_progress(simplify_share)
-        reports[i] = measure.mesh_report(data.vertices, data.faces, rungs[i].vertices, rungs[i].faces,
-                                         n_samples=DEVIATION_SAMPLES)
-        return reports[i]["hausdorff"]
-
+    quick, exact, reports = _measurers(lod_input.data, rungs, lambda: report_progress(simplify_share))
     choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
     kept = [c for c in choices if c.level is not None]
     for c in choices:
@@ -449,19 +456,7 @@ def _refine(lod_input: LodInput, within, within_report, beyond, deviation, repor
     if not counts:
         return within, within_report
     levels = core.simplify_chain(data.vertices, data.faces, counts, lod_input.core_options)
-    reports = {}
-
-    def quick(i):
-        report_progress(simplify_share)
-        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
-                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
-
-    def exact(i):
-        report_progress(simplify_share)
-        reports[i] = measure.mesh_report(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
-                                         n_samples=DEVIATION_SAMPLES)
-        return reports[i]["hausdorff"]
-
+    quick, exact, reports = _measurers(data, levels, lambda: report_progress(simplify_share))
     choice = deviation_targets.Search(quick, exact).coarsest_within(deviation, len(levels))
     if choice.level is None:
         return within, within_report
