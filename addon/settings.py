@@ -37,7 +37,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ._core import core
-from . import deviation_targets
+from . import deviation_targets, switch_distances
 from .importance import DEFAULT_STRENGTH as DEFAULT_IMPORTANCE_STRENGTH
 
 
@@ -170,7 +170,7 @@ SETTINGS = (
             "percent of the object's bounding-box diagonal: it gets the fewest triangles within it",
             low=0.0, low_open=True, unit=" %", blender={"min": 0.001, "soft_max": 10.0, "precision": 3},
             what="deviation"),
-    Setting("pixel_error", 1.0, "Pixel Error",
+    Setting("pixel_error", switch_distances.DEFAULT_PIXEL_ERROR, "Pixel Error",
             "The largest error, in pixels, the first LOD may show when the object covers Screen "
             "Height pixels (deviation = object size x pixel error / screen height); each next LOD "
             "is for 1/Factor the distance. Also the budget the engines' switch distances are "
@@ -178,14 +178,14 @@ SETTINGS = (
             blender={"min": 0.01, "soft_max": 16.0}, flag="--pixel-error",
             cli={"metavar": "PX", "help": "the on-screen error budget, in pixels, the engines' switch "
                                           "distances are computed for (default {default:g})"}),
-    Setting("screen_height", 1080, "Screen Height",
+    Setting("screen_height", switch_distances.DEFAULT_SCREEN_HEIGHT, "Screen Height",
             "How many pixels tall the object is on screen where the first LOD takes over (By "
             "Screen Size), and the screen height of the engines' switch distances",
             low=1, unit=" px", blender={"soft_max": 4320}, flag="--screen-height",
             cli={"metavar": "H", "help": "screen height in pixels: with --screen-size how tall the object "
                                          "is on screen, and the screen of the engines' switch distances "
                                          "(default {default})"}),
-    Setting("vertical_fov", 60.0, "Field of View",
+    Setting("vertical_fov", switch_distances.DEFAULT_VERTICAL_FOV_DEGREES, "Field of View",
             "The camera's vertical field of view, degrees, that the engines' switch distances "
             "are computed for (screen shares do not depend on it)",
             low=0.0, high=180.0, low_open=True, high_open=True, unit=" degrees",
@@ -489,7 +489,7 @@ def add_arguments(group, names=None) -> None:
             group.add_argument(s.flag, dest=s.name, type=_choice(ids), default=s.default,
                                metavar="{" + ",".join(ids) + "}", **extra)
         else:
-            group.add_argument(s.flag, dest=s.name, type=number if s.kind is float else _whole,
+            group.add_argument(s.flag, dest=s.name, type=number if s.kind is float else whole_number(),
                                default=s.default, **extra)
 
 
@@ -535,10 +535,17 @@ def _choice(ids):
     return choice
 
 
-def _whole(text):
+def whole_number(minimum: Optional[int] = None):
+    """An argparse type: a whole number, of at least ``minimum`` when one is given (a
+    setting's own range is checked by argument_problems, naming the flag)."""
     import argparse
 
-    try:
-        return int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if minimum is not None and value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
+        return value
+    return parse

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Optional
 
 from ..settings import (IMPORTANCE_GROUP, parse_deviation, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
-                        number, settings_from_arguments)
+                        number, settings_from_arguments, whole_number)
 from .dask_tasks import SCHEDULER_ENV
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
@@ -105,21 +105,8 @@ def _deviation(text):
     return text.strip()
 
 
-def _whole_number(minimum: int):
-    """An argparse type: a whole number of at least ``minimum``."""
-    def parse(text):
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
-        return value
-    return parse
-
-
-_positive_int = _whole_number(1)
-_non_negative_int = _whole_number(0)
+_positive_int = whole_number(1)
+_non_negative_int = whole_number(0)
 
 
 def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
@@ -184,7 +171,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     g.add_argument("--lod-group", action="store_true",
                    help='parent each chain to an Empty with fbx_type = "LodGroup" (Unreal)')
     add_arguments(g, ["pixel_error", "vertical_fov", "hard_edge_angle"])
-    g.add_argument("--bake-normals", type=_whole_number(8), metavar="RES",
+    g.add_argument("--bake-normals", type=whole_number(8), metavar="RES",
                    help="bake each LOD's lost detail into a RES x RES tangent-space normal map "
                         "(Cycles, from the source; needs UVs), used by copies of its materials")
     g.add_argument("--report", metavar="FILE.json",
