@@ -74,6 +74,19 @@ def targets(targets, m: int) -> list:
     return out
 
 
+def max_errors(max_error, levels: int) -> list:
+    """``max_error`` as one bound per level: a number for every level, or a sequence of
+    ``levels`` non-decreasing ones (a chain of distance targets)."""
+    if np.ndim(max_error) == 0:
+        return [non_negative(max_error, "max_error")] * levels
+    bounds = [non_negative(e, "max_error") for e in max_error]
+    if len(bounds) != levels:
+        raise ValueError(f"max_error has {len(bounds)} bounds for {levels} targets: give one per target")
+    if any(b < a for a, b in zip(bounds, bounds[1:])):
+        raise ValueError(f"max_error bounds must not decrease along the chain, got {bounds}")
+    return bounds
+
+
 def vertex_attributes(attrs, n: int) -> dict:
     out = {}
     for name, values in (attrs or {}).items():

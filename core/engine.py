@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import components, features, quadrics, selection, shape_keys, slivers, topology, validation, vertex_quadrics
+from .tracked_distance import TrackedDistance
 from .guards import relaxation_ladder
 from .heartbeat import Heartbeat
 from .selection import FREE, LOCKED, SEAM
@@ -97,6 +98,8 @@ class State:
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
     key_scale: float = 1.0  # offsets are in input units; positions are normalised
+    tracker: object = None  # core.tracked_distance, when max_error bounds the distance
+    max_error: object = None  # that bound (normalised units), or None
     heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
 
@@ -134,13 +137,15 @@ def run(p: Problem) -> list:
     )
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
+    if p.max_error is not None:
+        s.max_error = p.max_error[0]
+        s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.input_faces)
     if p.shape_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
     s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
-    max_error_sq = None if p.max_error is None else p.max_error ** 2
 
     results = []
     start_faces = len(F)
@@ -153,15 +158,27 @@ def run(p: Problem) -> list:
         if len(s.F) <= target + 0 or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
+            if stop == STOP_MAX_ERROR and level < len(p.targets) and p.max_error[level] > s.max_error:
+                _loosen(s, p.max_error[level])  # a chain of bounds: the next level goes on
+                stop = STOP_TARGET
             continue
         passes += 1
-        outcome = _one_pass(s, passes, target, max_error_sq, p.seed, p.preserve_seams)
+        outcome = _one_pass(s, passes, target, p.seed, p.preserve_seams)
         if outcome == STOP_TOPOLOGY:
             outcome = _unstick(s, p, target)
         if outcome is not None:
             stop = outcome
         heartbeat.report((start_faces - len(s.F)) / max(start_faces - final_target, 1))
     return results
+
+
+def _loosen(s: State, bound: float):
+    """The next, larger distance bound of a chain: what the last one rejected gets a new
+    chance (and, as in _unstick, the last pass found no candidate: no cost to reuse)."""
+    s.max_error = bound
+    s.tracker.rejected = False
+    s.rejected_pass[:] = 0
+    s.cost_cache = None
 
 
 def _shape_keys(s: State, p: Problem, names, X, area):
@@ -196,7 +213,7 @@ def _unstick(s: State, p: Problem, target: int):
     return STOP_TOPOLOGY
 
 
-def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_seams):
+def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
     """One pass; returns a stop reason when nothing more can be collapsed, else None."""
     n = len(s.V)
     conn = s.conn
@@ -207,14 +224,10 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
     cand = selection.candidates(s, conn, kind, pass_no)
     s.heartbeat.beat()
     if len(cand.edge) == 0:
-        return STOP_TOPOLOGY
+        # What is left was rejected; if the distance bound was among the reasons, it is
+        # what stops the run (no quality rule is relaxed to go past it).
+        return STOP_MAX_ERROR if s.tracker is not None and s.tracker.rejected else STOP_TOPOLOGY
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
-    if max_error_sq is not None:
-        within = mean_sq <= max_error_sq
-        if not within.any():
-            return STOP_MAX_ERROR
-        cand = cand.subset(within)
-        mean_sq = mean_sq[within]
     cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
@@ -228,6 +241,8 @@ def _one_pass(s: State, pass_no: int, target: int, max_error_sq, seed, preserve_
         chosen = chosen[:upto]
     if len(chosen):
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(mean_sq[chosen].max())))
+        if s.tracker is not None:
+            s.tracker.commit(cand.edge[chosen])
         _apply(s, conn, cand, chosen, pass_no)
     return None
 
@@ -436,7 +451,7 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         passes=passes,
         seconds=seconds,
         stop_reason=stop if len(s.F) > target else STOP_TARGET,
-        max_error=s.max_error_seen * p.scale,
+        max_error=(s.max_error_seen if s.tracker is None else s.tracker.largest()) * p.scale,
         welded_vertices=p.welded,
         relaxation_step=s.guards.step,
         removed_components=s.removed_components,

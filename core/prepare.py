@@ -25,7 +25,7 @@ class Problem:
     face_origin: np.ndarray
     vertex_origin: np.ndarray
     targets: list
-    max_error: object  # normalised units, or None
+    max_error: object  # one bound per target, normalised units, or None
     line_weights: np.ndarray  # w_i of Eq. 16
     quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
     boundary_weight: float
@@ -60,9 +60,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     f = checks.as_faces(faces, n)
     m = len(f)
     tgt = checks.targets(targets, m)
-    max_error = o.max_error
-    if max_error is not None:
-        max_error = checks.non_negative(max_error, "max_error")
+    max_error = None if o.max_error is None else checks.max_errors(o.max_error, len(tgt))
     line_weight = checks.non_negative(o.line_weight, "line_weight")
     line_weights = (np.full(n, line_weight) if o.line_weights is None
                     else checks.per_vertex(o.line_weights, n, "line_weights"))
@@ -127,7 +125,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         center, scale = np.zeros(3), 1.0
     vn = (v - center) / scale
     if max_error is not None:
-        max_error = max_error / scale
+        max_error = [e / scale for e in max_error]
 
     # Weld coincident vertices (exported assets), then drop faces that became degenerate
     # or duplicate: they cannot be simplified and would break the manifold checks.

@@ -38,7 +38,7 @@ class SimplifyStats:
     passes: int
     seconds: float
     stop_reason: str
-    max_error: float = 0.0  # largest RMS quadric distance of an accepted collapse (mesh units)
+    max_error: float = 0.0  # with max_error given: the tracked distance bound reached; else the largest RMS quadric distance of an accepted collapse (mesh units)
     welded_vertices: int = 0  # coincident input vertices merged before simplifying
     relaxation_step: int = 0  # core.guards ladder step the run ended at (0: no rule relaxed)
     removed_components: int = 0  # whole parts removed (remove_small_components)

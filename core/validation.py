@@ -10,7 +10,8 @@ Checked in bulk over the corners around both ends of every chosen edge:
 - no face turns over (new.old normal below the step's min_normal_cosine, or facing away
   from the input face it descends from) or collapses to zero area,
   and none becomes a sliver (quality below the step's min_quality) worse than it was;
-- no UV triangle flips (delegated to the wedges, when corner data is carried).
+- no UV triangle flips (delegated to the wedges, when corner data is carried);
+- with ``max_error``, the LOD stays within it of the source (core.tracked_distance).
 core.guards states every rule and which of them relax (the thresholds in ``s.guards``).
 """
 from __future__ import annotations
@@ -72,6 +73,12 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     if s.wedges is not None:
         ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
                                 guards.min_uv_area_kept, guards.uv_flip)
+    if s.tracker is not None and ok.any():
+        # Rule max_error: only for what passed the rest (the measuring is the dear part).
+        # Each face of the old fans once: a face on the edge is gathered from both ends.
+        fan = ok[collapse] & (from_keep | ~dying)
+        new_tri = np.stack([rows(pos, collapse[fan]), rows(s.V, nb_next[fan]), rows(s.V, nb_prev[fan])], axis=1)
+        ok &= s.tracker.within(s.max_error, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], c, edge)
     return ok
 
 

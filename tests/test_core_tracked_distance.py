@@ -1,0 +1,115 @@
+"""max_error is a distance (issue 22): core.tracked_distance bounds how far the LOD is from
+its source, and the bound holds when measured independently, by brute force."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import core
+from core.tracked_distance import _barycentric_grid, point_triangle_distance_sq
+
+import mesh_builders as build
+import mesh_checks as check
+
+
+def _on_triangles(vertices, faces, steps=6):
+    """Points on every triangle: a barycentric grid with ``steps`` a side."""
+    grid = np.array([(steps - i - j, i, j) for i in range(steps + 1) for j in range(steps + 1 - i)]) / steps
+    return np.einsum("gk,fkj->fgj", grid, vertices[faces]).reshape(-1, 3)
+
+
+def _distance_to_mesh(points, vertices, faces) -> np.ndarray:
+    """(p,) distance from each point to the nearest triangle, by brute force."""
+    tri = vertices[faces]
+    best = np.full(len(points), np.inf)
+    for a, b, c in zip(tri[:, 0], tri[:, 1], tri[:, 2]):
+        k = len(points)
+        d2 = point_triangle_distance_sq(points, np.tile(a, (k, 1)), np.tile(b, (k, 1)), np.tile(c, (k, 1)))
+        best = np.minimum(best, d2)
+    return np.sqrt(best)
+
+
+coordinates = st.floats(-2, 2, allow_nan=False, allow_infinity=False)
+point3 = st.tuples(coordinates, coordinates, coordinates)
+
+
+@settings(max_examples=150, deadline=None)
+@given(point3, point3, point3, point3)
+def test_point_triangle_distance_is_the_distance_to_the_closest_point(p, a, b, c):
+    p, a, b, c = (np.array([x], dtype=float) for x in (p, a, b, c))
+    d = np.sqrt(point_triangle_distance_sq(p, a, b, c))[0]
+    # Never more than the distance to any point of the triangle...
+    samples = _on_triangles(np.concatenate([a, b, c]), np.array([[0, 1, 2]]), steps=40)
+    nearest_sample = np.linalg.norm(samples - p, axis=1).min()
+    assert d <= nearest_sample + 1e-9
+    # ...and no less than that minus how far a grid point can be from the closest point.
+    spacing = max(np.linalg.norm(a - b), np.linalg.norm(b - c), np.linalg.norm(c - a)) / 40
+    assert d >= nearest_sample - spacing - 1e-9
+
+
+def test_barycentric_grid_leaves_out_the_corners():
+    grid = _barycentric_grid(3)
+    assert len(grid) == 7 and np.allclose(grid.sum(axis=1), 1) and (grid.max(axis=1) < 1).all()
+
+
+@pytest.mark.parametrize("bound", [0.01, 0.03])
+def test_lod_stays_within_max_error_both_ways(bound):
+    V, F = build.grid(24, height=build.bumps(0.12, 1.5))
+    r = core.simplify(V, F, max_error=bound)
+    check.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == "max_error_reached"
+    assert len(r.faces) < 0.5 * len(F)
+    # The promise, checked at the tracked points (source vertices, points in its faces)
+    # and at the LOD's vertices, by brute force against the whole other mesh.
+    src_to_lod = _distance_to_mesh(_on_triangles(V, F, steps=3), r.vertices, r.faces).max()
+    lod_to_src = _distance_to_mesh(r.vertices, V, F).max()
+    assert src_to_lod <= bound * (1 + 1e-9), f"source to LOD {src_to_lod:.5f} > {bound}"
+    assert lod_to_src <= bound * (1 + 1e-9), f"LOD to source {lod_to_src:.5f} > {bound}"
+    assert r.stats.max_error <= bound * (1 + 1e-9)
+    # Not needlessly careful: the LOD uses most of what it was allowed.
+    assert max(src_to_lod, lod_to_src) > 0.5 * bound
+    # Anywhere on the surfaces (denser points) it may stray a little beyond.
+    dense = _distance_to_mesh(_on_triangles(V, F, steps=8), r.vertices, r.faces).max()
+    assert dense <= 1.5 * bound
+
+
+def test_the_bound_is_in_mesh_units_whatever_the_scale():
+    V, F = build.grid(16, height=build.bumps(0.12, 1.5))
+    small = core.simplify(V, F, max_error=0.02)
+    large = core.simplify(V * 100.0 + 5.0, F, max_error=2.0)
+    assert len(small.faces) == len(large.faces)
+    assert large.stats.max_error == pytest.approx(100.0 * small.stats.max_error, rel=1e-6)
+
+
+def test_a_chain_of_bounds_gives_ever_coarser_levels_each_within_its_own():
+    V, F = build.grid(24, height=build.bumps(0.12, 1.5))
+    bounds = [0.005, 0.01, 0.03]
+    levels = core.simplify_chain(V, F, [0, 0, 0], max_error=bounds)
+    counts = [len(level.faces) for level in levels]
+    assert counts[0] > counts[1] > counts[2]
+    for level, bound in zip(levels, bounds):
+        check.assert_valid_result(level, V, F)
+        assert level.stats.max_error <= bound * (1 + 1e-9)
+        assert _distance_to_mesh(level.vertices, V, F).max() <= bound * (1 + 1e-9)
+    # Each level is what a single run with its bound gives up to the collapse order: close.
+    alone = core.simplify(V, F, max_error=bounds[-1])
+    assert abs(len(alone.faces) - counts[-1]) <= 0.15 * len(alone.faces)
+
+
+def test_face_targets_and_bounds_together_stop_at_whichever_comes_first():
+    V, F = build.grid(24, height=build.bumps(0.12, 1.5))
+    levels = core.simplify_chain(V, F, [900, 20], max_error=[0.005, 0.005])
+    assert len(levels[0].faces) == 900 and levels[0].stats.stop_reason == "target_reached"
+    assert len(levels[1].faces) > 20 and levels[1].stats.stop_reason == "max_error_reached"
+
+
+@pytest.mark.parametrize("bad, message", [
+    ([0.01, 0.005], "must not decrease"),
+    ([0.01], "one per target"),
+    ([0.01, -1.0], ">= 0"),
+])
+def test_bad_bound_chains_are_named(bad, message):
+    V, F = build.grid(6)
+    with pytest.raises(ValueError, match=message):
+        core.simplify_chain(V, F, [40, 20], max_error=bad)
