@@ -523,6 +523,15 @@ def _remove_object_and_mesh(ob) -> None:
         vertex_groups.remove_mesh(mesh)
 
 
+def _replace_lod(ob) -> None:
+    """Remove an earlier run's LOD, with the material copies and images its bake made
+    once nothing uses them (they would stay behind as orphans, and push the new copies'
+    names to .001); materials and images not made by a bake are never removed."""
+    baked = bake.baked_materials(ob)  # read before the object and its mesh go
+    _remove_object_and_mesh(ob)
+    bake.remove_unused(baked)
+
+
 def in_scene(collection, scene) -> bool:
     """Whether ``collection`` is the scene's own collection or one nested in it."""
     return collection == scene.collection or collection in scene.collection.children_recursive[:]
@@ -606,7 +615,7 @@ def commit(context_or_scene, outputs: list) -> list:
     for source, out, objects in built:
         for old in previous_lods(source.name):
             if old.as_pointer() not in keep:
-                _remove_object_and_mesh(old)
+                _replace_lod(old)
         coll = _lod_collection(scene, source)
         for k, lod in enumerate(objects, start=1):
             lod.name = f"{source.name}_LOD{k}"
