@@ -19,7 +19,7 @@ row per switch: the whole frame (LOD i), then source and LOD i at the frame's ow
 Measured per row and printed (a markdown table): how far apart the two silhouettes are,
 in pixels (for each pixel covered by one render only, the distance to the nearest pixel
 covered by the other: what the switch distance bounds), the largest grey-level
-difference (0-255), and inside the object (pixels both cover) the mean difference and
+difference (0-255), and inside the object (pixels both cover) the largest and mean ones and
 the share of pixels differing by more than VISIBLE: shading, which the bound does not
 cover. Workbench is deterministic, so every difference is the LOD's, not noise.
 """
@@ -205,15 +205,16 @@ def silhouette_gap(a: np.ndarray, b: np.ndarray) -> float:
 
 def compare(source_rgba: np.ndarray, lod_rgba: np.ndarray) -> dict:
     """The two renders' differences: the silhouette gap (pixels; covered = alpha over
-    one half), the largest grey-level difference (0-255) anywhere, and inside (pixels
-    both cover fully, INSIDE_ALPHA: shading only) the mean and the share over VISIBLE;
+    one half), the largest grey-level difference (0-255) anywhere (an edge pixel one
+    render covers more than the other), and inside (pixels both cover fully,
+    INSIDE_ALPHA: shading only) the largest, the mean and the share over VISIBLE;
     the |difference| image (h, w) and the source's height on screen (pixels)."""
     a, b = source_rgba[..., 3] > 0.5, lod_rgba[..., 3] > 0.5
     diff = np.abs(on_white(source_rgba) - on_white(lod_rgba))
     inside = diff[(source_rgba[..., 3] > INSIDE_ALPHA) & (lod_rgba[..., 3] > INSIDE_ALPHA)]
     rows = np.nonzero(a.any(axis=1))[0]
     return dict(silhouette_px=silhouette_gap(a, b), max_grey=float(diff.max()),
-                inside_mean=float(inside.mean()),
+                inside_max=float(inside.max()), inside_mean=float(inside.mean()),
                 inside_visible=100.0 * float((inside > VISIBLE).mean()), diff=diff,
                 object_px=int(rows[-1] - rows[0] + 1) if len(rows) else 0)
 
@@ -278,7 +279,8 @@ def compose(rows: list, levels: list, args, name: str, out: Path) -> None:
         axes[r, 3].text(1.05, 0.5, f"source {result['object_px']:,} px high\n"
                                    f"silhouettes {result['silhouette_px']:.0f} px apart\n"
                                    f"largest grey difference {result['max_grey']:.0f}\n"
-                                   f"inside: mean {result['inside_mean']:.1f},\n"
+                                   f"inside: largest {result['inside_max']:.0f}, "
+                                   f"mean {result['inside_mean']:.1f},\n"
                                    f"{result['inside_visible']:.1f} % of pixels > {VISIBLE}\n"
                                    f"(grey levels of 255)",
                         transform=axes[r, 3].transAxes, fontsize=8.5, va="center")
@@ -330,12 +332,13 @@ def main(argv=None) -> int:
           f"source and LOD i rendered by Workbench at LOD i's switch distance D_i "
           f"({FRAME[0]} x {FRAME[1]}, {args.fov:g}° vertical):")
     print(header("level", "triangles", "deviation", "D_i", "source on screen", "silhouette gap",
-                 "largest grey diff", "inside: mean", f"inside: > {VISIBLE}"))
+                 "largest grey diff", "inside: largest", "inside: mean", f"inside: > {VISIBLE}"))
     for i, result in rows:
         level = levels[i]
         print(row(level["name"], f"{level['triangles']:,}", f"{level['deviation']:.4g}",
                   f"{level['switch_distance']:.4g}", f"{result['object_px']} px", f"{result['silhouette_px']:.0f} px",
-                  f"{result['max_grey']:.0f}", f"{result['inside_mean']:.2f}", f"{result['inside_visible']:.2f} %"))
+                  f"{result['max_grey']:.0f}", f"{result['inside_max']:.0f}", f"{result['inside_mean']:.2f}",
+                  f"{result['inside_visible']:.2f} %"))
     return 0
 
 
