@@ -292,7 +292,7 @@ def compose(rows: list, levels: list, args, name: str, out: Path) -> None:
                  f"{FRAME[1]} px high; scene units), LOD i drawn there", fontsize=10.5)
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100)
+    fig.savefig(out, dpi=100, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
 
 
