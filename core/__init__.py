@@ -14,6 +14,8 @@ Public API:
     triangle_quality(vertices, faces) -> (m,) quality in [0, 1]; SLIVER_QUALITY below it
         a triangle is a sliver (the default min_quality and every report's threshold)
     skin_line_weights(skin) -> (n,) the paper's Sec. 5.3 w_i from skinning weights
+    shading                     Blender's corner normals from smooth flags and sharp edges,
+        and the geometry of comparing two meshes' shading normals
 """
 from .result import (
     STOP_MAX_ERROR,
@@ -29,6 +31,7 @@ from .simplify import simplify, simplify_chain
 from .metrics import SLIVER_QUALITY, triangle_quality, quality_summary
 from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
+from . import shading  # shading normals and their deviation (addon/measure.py's normal_deviation)
 
 __all__ = [
     "Options",
@@ -47,4 +50,5 @@ __all__ = [
     "quality_summary",
     "skin_line_weights",
     "topology",
+    "shading",
 ]
