@@ -65,6 +65,17 @@ def test_bounded_queries_fall_back_to_exact_distances():
     d = measure._distances(tree, pts)
     assert tree.bounded_misses >= far.sum()  # the radius really was below the far points
     np.testing.assert_array_equal(d, z)
+    # Asked for the faces too, the re-queried points come back with theirs.
+    d, faces = measure._distances(_PlaneTree(), pts, with_faces=True)
+    np.testing.assert_array_equal(d, z)
+    assert faces.dtype == np.int64 and np.all(faces == 0)
+
+
+def test_samples_carry_their_triangle_and_barycentric_coordinates():
+    v, f = grid(4, jitter=0.2)
+    points, tri, bary = measure._sample_surface(v, f, 1000, np.random.default_rng(5))
+    assert np.allclose(np.einsum("kc,kcj->kj", bary, v[f[tri]]), points)
+    np.testing.assert_array_equal(points, measure.sample_surface(v, f, 1000, np.random.default_rng(5)))
 
 
 # ---------------------------------------------------------------- Blender side
@@ -77,7 +88,8 @@ def measured(tmp_path_factory):
     fine_v, fine_f = icosphere(4)
     coarse_v, coarse_f = icosphere(2)
     path = tmp / "meshes.npz"
-    np.savez(path, plane_v=plane_v, plane_f=plane_f,
+    coarse_plane_v, coarse_plane_f = grid(3, jitter=0.2)
+    np.savez(path, plane_v=plane_v, plane_f=plane_f, coarse_plane_v=coarse_plane_v, coarse_plane_f=coarse_plane_f,
              shifted_v=plane_v + [0.0, 0.0, 0.1], shifted_f=plane_f,
              fine_v=fine_v, fine_f=fine_f, coarse_v=coarse_v, coarse_f=coarse_f,
              empty_v=plane_v, empty_f=np.empty((0, 3), np.int64))
@@ -143,8 +155,39 @@ def test_mesh_report_adds_output_quality(measured):
     assert r["hausdorff"] <= measured["sagitta_coarse"] + 1e-6
 
 
+def test_a_flat_plane_shades_like_a_coarser_flat_plane(measured):
+    r = measured["normals_plane"]
+    assert r["normal_max_degrees"] < 1e-6 and r["normal_points"] == 20_000
+
+
+def test_normals_tilted_by_a_known_angle_measure_that_angle(measured):
+    r = measured["normals_tilted"]
+    for key in ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees"):
+        assert r[key] == pytest.approx(30.0, abs=1e-6), key
+
+
+def test_a_smooth_coarse_sphere_shades_closer_than_a_flat_one(measured):
+    smooth, flat = measured["normals_sphere"], measured["normals_sphere_flat"]
+    # icosphere(2) has edges of ~0.3 rad: flat faces are up to ~10 degrees off the fine
+    # sphere's normals, interpolated ones a few tenths of that.
+    assert 0 < smooth["normal_mean_degrees"] < 1.5 and smooth["normal_max_degrees"] < 5.0, smooth
+    assert 4.0 < flat["normal_mean_degrees"] < 10.0, flat
+    assert flat["normal_mean_degrees"] > 3 * smooth["normal_mean_degrees"]
+
+
+def test_surface_deviation_gives_the_normals_from_its_own_closest_points(measured):
+    with_normals, without = measured["sphere_with_normals"], measured["sphere_without_normals"]
+    alone = measured["normals_sphere"]
+    for key in ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees", "normal_points"):
+        assert with_normals[key] == alone[key], key  # the same samples, the same closest points
+    for key in ("hausdorff", "mean", "hausdorff_src_to_dst", "mean_dst_to_src"):
+        assert with_normals[key] == without[key], key  # the distances do not change
+
+
 def test_invalid_input_raises_value_error_naming_the_problem(measured):
     e = measured["errors"]
+    assert "(m, 3, 3)" in e["normals_shape"]
+    assert "NaN" in e["normals_nan"]
     assert "no faces" in e["empty"]
     assert "outside" in e["index"]
     assert "not both" in e["both_counts"]
@@ -158,5 +201,6 @@ def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):
     r = run_scenario("measure_installed_core", user_dir=blender_user_dir)
     assert r["hausdorff"] == pytest.approx(0.25, abs=1e-6)
     assert r["mean_quality"] == pytest.approx(2 * 3 ** 0.5 * 1.0 / 4.0)  # right isosceles: q = 0.866
+    assert r["normal_max_degrees"] == 0.0  # through the installed core's shading module
     assert r["ext_core"], "the installed measure did not import the extension's own core"
     assert not r["top_core"], "the installed measure imported the checkout's top-level core"

@@ -1,5 +1,5 @@
 """addon/measure.py (the checkout's copy) on meshes the test wrote to an .npz file: known
-distances, the mesh report, and what invalid input raises (tests/test_measure.py checks
+distances and normal angles, the mesh report, and what invalid input raises (tests/test_measure.py checks
 what this returns). Runs without the extension installed."""
 import numpy as np
 
@@ -22,7 +22,30 @@ def run(meshes_npz: str) -> dict:
         "report": measure.mesh_report(d["fine_v"], d["fine_f"], d["coarse_v"], d["coarse_f"], n_samples=5000),
         "core_quality": core.quality_summary(d["coarse_v"], d["coarse_f"]),
     }
+    # Shading normals (measure.normal_deviation): a coarser plane's, flat and tilted, and
+    # a coarse sphere's smooth ones against a fine sphere's.
+    up = core.shading.corner_normals(d["plane_v"], d["plane_f"], np.zeros(len(d["plane_f"]), bool))
+    coarse_up = core.shading.corner_normals(d["coarse_plane_v"], d["coarse_plane_f"],
+                                            np.zeros(len(d["coarse_plane_f"]), bool))
+    tilt = np.radians(30.0)
+    tilted = np.broadcast_to([np.sin(tilt), 0.0, np.cos(tilt)], coarse_up.shape)
+    fine_n = core.shading.corner_normals(d["fine_v"], d["fine_f"], np.ones(len(d["fine_f"]), bool))
+    coarse_n = core.shading.corner_normals(d["coarse_v"], d["coarse_f"], np.ones(len(d["coarse_f"]), bool))
+    coarse_flat = core.shading.corner_normals(d["coarse_v"], d["coarse_f"], np.zeros(len(d["coarse_f"]), bool))
+
+    def normals(a, b, na, nb, **kwargs):
+        return measure.normal_deviation(d[a + "_v"], d[a + "_f"], na, d[b + "_v"], d[b + "_f"], nb,
+                                        n_samples=20_000, **kwargs)
+
+    result["normals_plane"] = normals("plane", "coarse_plane", up, coarse_up)
+    result["normals_tilted"] = normals("plane", "coarse_plane", up, tilted)
+    result["normals_sphere"] = normals("fine", "coarse", fine_n, coarse_n)
+    result["normals_sphere_flat"] = normals("fine", "coarse", fine_n, coarse_flat)
+    result["sphere_with_normals"] = deviation("fine", "coarse", n_samples=20_000, normals=(fine_n, coarse_n))
+    result["sphere_without_normals"] = deviation("fine", "coarse", n_samples=20_000)
     invalid_calls = {
+        "normals_shape": lambda: normals("plane", "coarse_plane", up[:-1], coarse_up),
+        "normals_nan": lambda: normals("plane", "coarse_plane", up, coarse_up * np.nan),
         "empty": lambda: deviation("plane", "empty"),
         "index": lambda: measure.surface_deviation(d["plane_v"], d["plane_f"] + 1000, d["plane_v"], d["plane_f"]),
         "both_counts": lambda: deviation("plane", "plane", n_samples=10, samples_per_unit_area=10),
