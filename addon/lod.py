@@ -345,19 +345,17 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             raise LodCancelled("cancelled")
 
     data = lod_input.data
-    try:
-        results = core.simplify_chain(
-            data.vertices, data.faces, lod_input.targets, lod_input.core_options,
-            progress=lambda f: progress is None or progress(simplify_share * f) is not False)
-    except core.SimplifyCancelled as ex:
-        raise LodCancelled("cancelled") from ex
-    except ValueError as ex:
-        raise LodError(f'"{lod_input.source_name}": {ex}') from ex
 
-    requested = [None] * len(results)
-    measured = {}
+    def simplify(targets, **options):
+        return _simplify(lod_input, targets, lambda f: progress is None or progress(simplify_share * f) is not False,
+                         **options)
+
     if lod_input.deviations is not None:
-        results, requested, measured = _by_deviation(lod_input, results, report_progress, simplify_share)
+        results, requested, measured = _by_deviation(lod_input, simplify, report_progress, simplify_share)
+    else:
+        results = simplify(lod_input.targets)
+        requested = [None] * len(results)
+        measured = {}
     levels, reports = [], []
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
@@ -419,31 +417,79 @@ def _measurers(data, levels: list, tick) -> tuple:
     return quick, exact, reports
 
 
-def _by_deviation(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> tuple:
-    """(the rungs kept, each one's requested deviation, their measurements by id): per
-    requested deviation the coarsest rung measured within it (deviation_targets); a
-    deviation no rung meets is left out with a warning, and none met is a LodError."""
-    quick, exact, reports = _measurers(lod_input.data, rungs, lambda: report_progress(simplify_share))
-    choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
-    kept = [c for c in choices if c.level is not None]
-    for c in choices:
-        if c.level is None:
+def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
+    """core.simplify_chain on the input, with the input's options (``options`` replacing
+    some); cancelling and the core's ValueError become LodCancelled and LodError."""
+    data = lod_input.data
+    try:
+        return core.simplify_chain(data.vertices, data.faces, targets,
+                                   core.Options.of(lod_input.core_options, **options), progress=progress)
+    except core.SimplifyCancelled as ex:
+        raise LodCancelled("cancelled") from ex
+    except ValueError as ex:
+        raise LodError(f'"{lod_input.source_name}": {ex}') from ex
+
+
+def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share) -> tuple:
+    """(the levels kept, each one's requested deviation, their measurements by id).
+
+    First the core's tracked distance bound (deviation_targets.by_tracked_bounds); for
+    a deviation it does not meet, the ladder: per requested deviation the coarsest rung
+    measured within it (deviation_targets.choose_levels), refined between rungs. A
+    deviation neither meets is left out with a warning, and none met is a LodError."""
+    data = lod_input.data
+    measured = {}
+
+    def exact(level):
+        report_progress(simplify_share)
+        measured[id(level)] = measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
+                                                  n_samples=DEVIATION_SAMPLES)
+        return measured[id(level)]["hausdorff"]
+
+    found = deviation_targets.by_tracked_bounds(
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
+    if any(f.level is None for f in found):
+        ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share)
+        for f in found:
+            other = ladder.get(f.deviation)
+            if other is not None and (f.level is None or len(other[0].faces) < len(f.level.faces)):
+                f.level = other[0]
+                measured[id(other[0])] = other[1]
+        fewest = None  # each LOD coarser than the one before
+        for f in found:
+            if f.level is not None and fewest is not None and len(f.level.faces) >= fewest:
+                f.level = None
+            elif f.level is not None:
+                fewest = len(f.level.faces)
+    kept = [f for f in found if f.level is not None]
+    for f in found:
+        if f.level is None:
             lod_input.warnings.append(
-                f"no LOD within {c.deviation:.4g} (the object's units): no level coarser than the "
+                f"no LOD within {f.deviation:.4g} (the object's units): no level coarser than the "
                 f"one before is measured within it")
     if not kept:
         raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
-                       f"{choices[0].deviation:.4g}: ask for a larger one")
-    chosen = []
-    for c in kept:
+                       f"{found[0].deviation:.4g}: ask for a larger one")
+    lod_input.targets = [len(f.level.faces) for f in kept]
+    return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
+
+
+def _by_ladder(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> dict:
+    """{deviation: (level, its report)} for the requested deviations some rung of the
+    ladder meets: the coarsest rung measured within it, refined between rungs where
+    it is under half the deviation (_refine)."""
+    quick, exact, reports = _measurers(lod_input.data, rungs, lambda: report_progress(simplify_share))
+    choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
+    chosen = {}
+    for c in choices:
+        if c.level is None:
+            continue
         level, report = rungs[c.level], reports[c.level]
         if c.hausdorff < deviation_targets.REFINE_BELOW * c.deviation and c.level + 1 < len(rungs):
             level, report = _refine(lod_input, level, report, rungs[c.level + 1], c.deviation, report_progress,
                                     simplify_share)
-        chosen.append((level, report))
-    lod_input.targets = [len(level.faces) for level, _ in chosen]
-    return ([level for level, _ in chosen], [c.deviation for c in kept],
-            {id(level): report for level, report in chosen})
+        chosen[c.deviation] = (level, report)
+    return chosen
 
 
 def _refine(lod_input: LodInput, within, within_report, beyond, deviation, report_progress, simplify_share):

@@ -34,7 +34,7 @@ from .geometry import rows
 FACE_GRID = 3
 # A point within this share of the bound of the face its face becomes stays there;
 # farther ones look for the nearest new face.
-CLOSE_ENOUGH = 0.5
+CLOSE_ENOUGH = 0.8
 
 
 def _barycentric_grid(steps: int) -> np.ndarray:
@@ -88,14 +88,16 @@ class TrackedDistance:
         """The bound so far: the farthest point, or new vertex, from the other surface."""
         return max(float(self.distance.max()) if len(self.distance) else 0.0, self.vertex_distance)
 
-    def within(self, bound: float, face_origin, fan_faces, collapse, new_tri, is_new, c, edges) -> np.ndarray:
+    def within(self, bound: float, face_origin, fan_faces, collapse, new_tri, is_new, ring, c, edges) -> np.ndarray:
         """(c,) bool: the collapses whose new fan keeps every point of their old fan, and
         itself, within ``bound`` of the other surface.
 
         fan_faces (k,): live face rows around either end of each collapse, each once;
         collapse (k,): which of the c collapses; new_tri (k, 3, 3): the face each row
-        becomes (rows where is_new (k,) is False die with the edge); edges (c,): the
-        collapses' edge ids, to recognise them when they are applied (``commit``)."""
+        becomes (rows where is_new (k,) is False die with the edge); ring (k, 2): the
+        row's two corners that stay (vertex ids; on a dying row, the other end and the
+        corner opposite the edge); edges (c,): the collapses' edge ids, to recognise
+        them when they are applied (``commit``)."""
         ids = face_origin[fan_faces]
         # Every point of the old fans, with the fan row it lies on.
         counts = self.starts[ids + 1] - self.starts[ids]
@@ -104,14 +106,21 @@ class TrackedDistance:
         owner = collapse[home]
         xyz = rows(self.points, point)
 
-        # Source to LOD. Most points stay close to the face their face becomes, a bound
-        # that costs one distance; only the others (and those of the dying faces) are
-        # measured against every new face of their collapse.
+        # Source to LOD. Most points stay close to the face their face becomes (a dying
+        # face's points: to one of the two new faces on its opposite corner), which
+        # costs one or two distances; only the rest are measured against every new face
+        # of their collapse.
+        first, second = _next_faces(collapse, is_new, ring)
         d2 = np.full(len(point), np.inf)
-        lives = is_new[home]
-        t = new_tri[home[lives]]
-        d2[lives] = point_triangle_distance_sq(xyz[lives], t[:, 0], t[:, 1], t[:, 2])
-        new_face = home.copy()
+        new_face = np.full(len(point), -1, dtype=np.int64)
+        for candidate in (first, second):
+            face = candidate[home]
+            has = np.flatnonzero(face >= 0)
+            t = new_tri[face[has]]
+            d = point_triangle_distance_sq(xyz[has], t[:, 0], t[:, 1], t[:, 2])
+            closer = d < d2[has]
+            d2[has[closer]] = d[closer]
+            new_face[has[closer]] = face[has[closer]]
         far = np.flatnonzero(d2 > (CLOSE_ENOUGH * bound) ** 2)
         if len(far):
             new_rows = np.flatnonzero(is_new)
@@ -134,7 +143,7 @@ class TrackedDistance:
 
     def _lod_to_source_sq(self, new_tri, is_new, collapse, ids, point, new_face, bound, c) -> np.ndarray:
         """(c,) the largest squared distance from each new fan to the source, at points of
-        its faces (the new vertex, centroid and edge midpoints): to the nearest input
+        its faces (the new vertex, centroids and edge midpoints): to the nearest input
         triangle under the face (the one it descends from, or one it holds points of),
         and where that is beyond ``bound``, under the whole old fan. An upper bound at
         those points."""
@@ -150,7 +159,17 @@ class TrackedDistance:
         under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
                                      np.concatenate([ids, source[has]]), len(ids), self.input_faces)
         d2, _ = under_row.nearest(samples, sample_row, lambda m: self.triangles[m])
-        far = np.flatnonzero(d2 > bound * bound)
+        # The new vertex is on every new face: it is as near as its nearest face says.
+        is_vertex = np.zeros(len(samples), dtype=bool)
+        is_vertex[::per_face] = True
+        vertex_sq = np.full(c, np.inf)
+        np.minimum.at(vertex_sq, collapse[sample_row[is_vertex]], d2[is_vertex])
+        d2[is_vertex] = vertex_sq[collapse[sample_row[is_vertex]]]
+        far = d2 > bound * bound
+        # Each new vertex once.
+        repeat = np.flatnonzero(is_vertex)
+        far[repeat[np.concatenate([[False], collapse[sample_row[repeat[1:]]] == collapse[sample_row[repeat[:-1]]]])]] = False
+        far = np.flatnonzero(far)
         if len(far):
             under_fan = _Groups.of_pairs(np.concatenate([collapse, collapse[new_face[has]]]),
                                          np.concatenate([ids, source[has]]), c, self.input_faces)
@@ -177,6 +196,33 @@ class TrackedDistance:
 
     def forget(self):
         self._pending = []
+
+
+def _next_faces(collapse, is_new, ring) -> tuple:
+    """((k,), (k,)): for each fan row, the new faces its points are first measured
+    against: a surviving row, itself (and -1); a dying row, the (up to) two new faces of
+    its collapse on its corner opposite the edge (its neighbours across the two edges
+    that merge)."""
+    k = len(collapse)
+    first = np.where(is_new, np.arange(k), -1)
+    second = np.full(k, -1, dtype=np.int64)
+    dying = np.flatnonzero(~is_new)
+    if len(dying) == 0:
+        return first, second
+    span = np.int64(ring.max()) + 1
+    alive = np.flatnonzero(is_new)
+    key = np.concatenate([collapse[alive] * span + ring[alive, 0], collapse[alive] * span + ring[alive, 1]])
+    row = np.concatenate([alive, alive])
+    order = np.argsort(key, kind="stable")
+    key, row = key[order], row[order]
+    # On a dying row, the corner that is not the collapse's other end is the second.
+    wanted = collapse[dying] * span + ring[dying, 1]
+    at = np.searchsorted(key, wanted)
+    for out, offset in ((first, 0), (second, 1)):
+        i = np.minimum(at + offset, len(key) - 1)
+        hit = (at + offset < len(key)) & (key[i] == wanted)
+        out[dying[hit]] = row[i[hit]]
+    return first, second
 
 
 class _Groups:
@@ -221,34 +267,37 @@ def _ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 
 def point_triangle_distance_sq(p, a, b, c) -> np.ndarray:
-    """(k,) squared distances from points p (k, 3) to triangles (a, b, c), each (k, 3):
-    the closest point by Voronoi region of the triangle (Ericson, Real-Time Collision
-    Detection, 5.1.5), vectorised; degenerate triangles fall back to their edges."""
+    """(k,) squared distances from points p (k, 3) to triangles (a, b, c), each (k, 3).
+
+    Inside the triangle's prism the distance is to the plane; elsewhere the closest
+    point lies on an edge the point's projection is beyond (its opposite barycentric
+    coordinate is negative), so only those edges are measured, as clamped segments.
+    Degenerate triangles are measured as their three edges."""
     ab, ac, ap = b - a, c - a, p - a
-    d1 = np.einsum("ij,ij->i", ab, ap)
-    d2 = np.einsum("ij,ij->i", ac, ap)
-    bp = p - b
-    d3 = np.einsum("ij,ij->i", ab, bp)
-    d4 = np.einsum("ij,ij->i", ac, bp)
-    cp = p - c
-    d5 = np.einsum("ij,ij->i", ab, cp)
-    d6 = np.einsum("ij,ij->i", ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    # Inside the face: barycentric (u, v, w) from the three areas.
-    denom = va + vb + vc
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = vb / denom
-        w = vc / denom
-    closest = a + v[:, None] * ab + w[:, None] * ac
-    inside = (va > 0) & (vb > 0) & (vc > 0) & (denom > 0)
-    # Elsewhere the closest point lies on one of the three edges (or their ends).
-    best = np.where(inside, np.einsum("ij,ij->i", p - closest, p - closest), np.inf)
-    for start, end in ((a, b), (b, c), (c, a)):
-        e = end - start
-        ee = np.einsum("ij,ij->i", e, e)
-        t = np.clip(np.einsum("ij,ij->i", p - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-        q = p - (start + t[:, None] * e)
-        best = np.minimum(best, np.einsum("ij,ij->i", q, q))
+    d00 = np.einsum("ij,ij->i", ab, ab)
+    d01 = np.einsum("ij,ij->i", ab, ac)
+    d11 = np.einsum("ij,ij->i", ac, ac)
+    d20 = np.einsum("ij,ij->i", ap, ab)
+    d21 = np.einsum("ij,ij->i", ap, ac)
+    denom = d00 * d11 - d01 * d01
+    flat = denom <= 1e-30 * np.maximum(d00 * d11, 1e-300)
+    safe = np.where(flat, 1.0, denom)
+    v = (d11 * d20 - d01 * d21) / safe
+    w = (d00 * d21 - d01 * d20) / safe
+    u = 1.0 - v - w
+    q = ap - v[:, None] * ab - w[:, None] * ac
+    best = np.where((u >= 0) & (v >= 0) & (w >= 0) & ~flat, np.einsum("ij,ij->i", q, q), np.inf)
+    for beyond, start, end in ((w < 0, a, b), (u < 0, b, c), (v < 0, c, a)):
+        rows_ = np.flatnonzero(beyond | flat)
+        if len(rows_):
+            best[rows_] = np.minimum(best[rows_], _segment_distance_sq(p[rows_], start[rows_], end[rows_]))
     return best
+
+
+def _segment_distance_sq(p, start, end) -> np.ndarray:
+    """(k,) squared distances from points p (k, 3) to segments start-end (k, 3)."""
+    e = end - start
+    ee = np.einsum("ij,ij->i", e, e)
+    t = np.clip(np.einsum("ij,ij->i", p - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
+    q = p - start - t[:, None] * e
+    return np.einsum("ij,ij->i", q, q)

@@ -78,7 +78,12 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         # Each face of the old fans once: a face on the edge is gathered from both ends.
         fan = ok[collapse] & (from_keep | ~dying)
         new_tri = np.stack([rows(pos, collapse[fan]), rows(s.V, nb_next[fan]), rows(s.V, nb_prev[fan])], axis=1)
-        ok &= s.tracker.within(s.max_error, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], c, edge)
+        # A dying row's second ring corner is the one opposite the edge.
+        ring = np.stack([nb_next[fan], nb_prev[fan]], axis=1)
+        swap = dying[fan] & (ring[:, 1] == other_end[fan])
+        ring[swap] = ring[swap][:, ::-1]
+        ok &= s.tracker.within(s.max_error, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], ring,
+                               c, edge)
     return ok
 
 

@@ -71,3 +71,52 @@ def test_counts_between_two_rungs():
     assert dt.between(10, 9) == [], "nothing lies between adjacent counts"
     counts = dt.between(1000, 900, steps=3)
     assert counts == sorted(counts, reverse=True) and all(900 < c < 1000 for c in counts), counts
+
+
+class _FakeLevel:
+    def __init__(self, triangles):
+        self.faces = range(triangles)  # only its length is used
+
+
+def _fake_core(overshoot):
+    """A core whose level for bound b has 1000/b triangles and measures ``overshoot``
+    times b (the sampled distance above the tracked bound); records the bounds run."""
+    runs = []
+
+    def run(bounds):
+        runs.append(list(bounds))
+        levels = [_FakeLevel(int(1000 / b)) for b in bounds]
+        for level, b in zip(levels, bounds):
+            level.measured = overshoot * b
+        return levels
+
+    return run, runs, lambda level: level.measured
+
+
+@pytest.mark.parametrize("overshoot", [1.0, 1.2, 1.4, 1.8])
+def test_tracked_bounds_end_within_and_close(overshoot):
+    """Every level ends within its deviation, however far the sampled distance overshoots
+    the tracked bound, and not needlessly below it."""
+    run, runs, exact = _fake_core(overshoot)
+    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, exact)
+    assert all(f.level is not None and f.hausdorff <= f.deviation for f in found), found
+    assert all(f.hausdorff >= 0.5 * f.deviation for f in found), found
+    counts = [len(f.level.faces) for f in found]
+    assert counts[0] > counts[1] > counts[2]
+    assert len(runs) <= dt.TRACKED_RUNS
+    if overshoot * dt.TRACKED_SHARE <= 1.0:
+        assert len(runs) == 1, "within on the first run: no second"
+    else:
+        assert runs[1][0] < runs[0][0], "the bound shrinks where the level came out beyond"
+
+
+def test_tracked_bounds_leave_out_what_never_comes_within():
+    run, runs, _ = _fake_core(1.0)
+    found = dt.by_tracked_bounds([1.0, 2.0], run, lambda level: 1e9)
+    assert [f.level for f in found] == [None, None] and len(runs) == dt.TRACKED_RUNS
+
+
+def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
+    """Two bounds that give the same level (a topology limit): the second is left out."""
+    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
+    assert found[0].level is not None and found[1].level is None
