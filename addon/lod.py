@@ -42,6 +42,12 @@ LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 SWITCH_PROP_PREFIX = "lqlod_"
 PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
 DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
+# What a measured LOD's report entry takes from measure.mesh_report: distances in % of the
+# source's bounding-box diagonal, the shading normals' angle to the source's in degrees
+# (measure.normal_deviation), triangle quality.
+NORMAL_KEYS = ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees")
+REPORT_KEYS = ("hausdorff_percent", "mean_percent") + NORMAL_KEYS + ("mean_quality", "min_quality",
+                                                                     "sliver_percent")
 # compute() reports simplification as this share of its progress and the deviation
 # measurement (when on) as the rest; progress_share() is what callers estimating time use.
 SIMPLIFY_SHARE = 0.8
@@ -375,10 +381,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry["requested_deviation"] = requested[k - 1]
             entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / measure.bbox_diagonal(data.vertices, data.faces)
         if measuring or requested[k - 1] is not None:
-            rep = measured.get(id(result)) or measure.mesh_report(
-                data.vertices, data.faces, result.vertices, result.faces, n_samples=DEVIATION_SAMPLES)
-            entry.update({key: float(rep[key]) for key in (
-                "hausdorff_percent", "mean_percent", "mean_quality", "min_quality", "sliver_percent")})
+            rep = _level_report(data, levels[-1], measured.get(id(result)))
+            entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
         if lod_input.importance is not None:
@@ -395,6 +399,23 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         reports.append(entry)
     report_progress(1.0)
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
+
+
+def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:
+    """The report's measurement of ``level`` against the source ``data``: mesh_report at
+    DEVIATION_SAMPLES, with the shading-normal deviation from the same closest points
+    (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
+    the level's report if a deviation search already made one; it gets the normal
+    deviation on its own (the search measured before the LOD's normals existed)."""
+    normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
+    if measured is None:
+        return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
+                                   n_samples=DEVIATION_SAMPLES, normals=normals)
+    if normals is None or "normal_mean_degrees" in measured:
+        return measured
+    angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
+                                      n_samples=DEVIATION_SAMPLES)
+    return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 
 def _measurers(data, levels: list, tick) -> tuple:
@@ -702,9 +723,10 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
     """Make ``source_obj``'s LOD chain and link it into the scene. Returns its report:
     {object, collection, source_triangles, source_vertices, seconds, warnings,
      levels: [{level, name, target, triangles, vertices, seconds, stop_reason,
-               hausdorff_percent, mean_percent (if measured), mean_quality,
-               min_quality, sliver_percent, importance (with importance on: painted_vertices,
-               painted_kept, painted_kept_percent, rest_kept_percent, painted_density),
+               hausdorff_percent, mean_percent, normal_mean_degrees, normal_p95_degrees,
+               normal_max_degrees (if measured), mean_quality, min_quality, sliver_percent,
+               importance (with importance on: painted_vertices, painted_kept,
+               painted_kept_percent, rest_kept_percent, painted_density),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
      switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,

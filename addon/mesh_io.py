@@ -15,6 +15,7 @@ import numpy as np
 
 import bpy
 
+from ._core import core
 from . import edges as edge_util
 from . import vertex_groups
 
@@ -79,6 +80,10 @@ class MeshData:
     # (m, 3, 3) unit normal per triangle corner when the mesh has custom split normals
     # (an artist's or a Weighted Normal modifier's shading), else None.
     custom_normals: Optional[np.ndarray] = None
+    # (m, 3, 3) the normal of each triangle corner as Blender shades the mesh (custom,
+    # smooth or flat): what a LOD's shading is measured against. Set by read_mesh; None
+    # on the LODs' data (core.shading.corner_normals gives theirs).
+    corner_normals: Optional[np.ndarray] = None
 
     @property
     def has_shape_keys(self) -> bool:
@@ -128,11 +133,10 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
             continue
         colors.append(ColorLayer(attr.name, attr.domain, attr.data_type, data))
 
-    custom_normals = None
-    if mesh.has_custom_normals and n_loops:
-        # corner_normals (Blender 4.1+) are the split normals as shaded, custom ones included.
-        normals = _get(mesh.corner_normals, "vector", n_loops, np.float32, 3).astype(np.float64)
-        custom_normals = normals.reshape(n_loops, 3)[tri_loops]
+    # corner_normals (Blender 4.1+) are the split normals as shaded, custom ones included.
+    corner_normals = _get(mesh.corner_normals, "vector", n_loops, np.float32, 3).astype(np.float64)
+    corner_normals = corner_normals.reshape(n_loops, 3)[tri_loops]
+    custom_normals = corner_normals if mesh.has_custom_normals and n_loops else None
 
     n_edges = len(mesh.edges)
     edge_verts = _get(mesh.edges, "vertices", n_edges, np.int32, 2).astype(np.int64).reshape(n_edges, 2)
@@ -151,6 +155,7 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
 
     return MeshData(
         custom_normals=custom_normals,
+        corner_normals=corner_normals,
         vertices=verts,
         faces=tris,
         material_index=poly_mat[tri_poly].astype(np.int64),
@@ -335,6 +340,15 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         vertex_groups.remove_mesh(mesh)
         raise
     return mesh
+
+
+def shading_normals(data: MeshData) -> np.ndarray:
+    """(m, 3, 3) the corner normals Blender gives the mesh build_mesh(data) makes: the
+    custom normals it writes, else the ones Blender computes from the smooth flags and
+    sharp edges (core.shading.corner_normals), without building the mesh."""
+    if data.custom_normals is not None:
+        return np.asarray(data.custom_normals, dtype=np.float64)
+    return core.shading.corner_normals(data.vertices, data.faces, data.smooth, data.sharp_edges)
 
 
 def add_vertex_groups(obj: bpy.types.Object, data: MeshData) -> None:

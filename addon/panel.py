@@ -124,14 +124,16 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         box.label(text="Last Run", icon='INFO')
         for rep in reports:
             box.label(text=f"{rep['object']}: {rep['source_triangles']:,} triangles, {rep['seconds']:.2f} s")
-            grid = box.grid_flow(row_major=True, columns=5, even_columns=False, align=True)
-            for title in ("LOD", "Triangles", "Max %", "Mean %", "Quality"):
+            grid = box.grid_flow(row_major=True, columns=6, even_columns=False, align=True)
+            for title in ("LOD", "Triangles", "Max %", "Mean %", "Normals °", "Quality"):
                 grid.label(text=title)
             for level in rep["levels"]:
                 grid.label(text=f"LOD{level['level']}")
                 grid.label(text=f"{level['triangles']:,}")
                 grid.label(text=f"{level['hausdorff_percent']:.3f}" if "hausdorff_percent" in level else "-")
                 grid.label(text=f"{level['mean_percent']:.4f}" if "mean_percent" in level else "-")
+                # The shading normals' mean angle to the source's (measure.normal_deviation).
+                grid.label(text=f"{level['normal_mean_degrees']:.1f}" if "normal_mean_degrees" in level else "-")
                 grid.label(text=f"{level['mean_quality']:.2f}")
             for level in rep["levels"]:
                 if "importance" in level:

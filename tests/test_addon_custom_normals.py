@@ -1,6 +1,7 @@
 """LODs shade like their source (issue 22 §3): custom split normals are carried to every
 LOD corner, whatever they are (normals pointing up for foliage, flat shading from custom
-normals alone)."""
+normals alone), and the report's normal deviation shows it: small with them carried,
+large with them dropped, and what Blender's own normals of the built LOD measure."""
 import pytest
 
 from bpy_harness import run_scenario
@@ -30,3 +31,27 @@ def test_hard_edges_mark_the_creases_of_a_mesh_shaded_by_angle(res):
     # Mostly the cube's edges; a few LOD triangles fold across them near the corners, and
     # those folds are creases of the LOD too.
     assert hard["on_cube_edges"] >= 0.8 * hard["sharp"], f"expected mostly the cube's edges sharp: {hard}"
+
+
+
+def test_carried_normals_measure_small_and_dropped_ones_clearly_larger(res):
+    # The report's normal deviation (measure.normal_deviation at the report's samples):
+    # degrees between the source's shading normal and the LOD's at the closest point.
+    up, weighted = res["deviation"]["up"], res["deviation"]["weighted"]
+    assert up["has_custom"] and weighted["has_custom"]
+    assert up["report"][0] < 0.1 and up["report"][1] < 0.5, up
+    assert not up["dropped_has_custom"] and up["dropped"][0] > 45.0, up  # the sphere's own normals
+    # Weighted Normal shading on a bevelled box: flat sides stay flat with the normals
+    # carried; dropped, Blender's smooth normals bend them towards the bevels.
+    assert weighted["report"][0] < 1.5, weighted
+    assert not weighted["dropped_has_custom"] and weighted["dropped"][0] > 2.5 * weighted["report"][0], weighted
+
+
+def test_the_report_measures_the_normals_blender_gives_the_lod(res):
+    # The report computes the LOD's normals before the mesh exists (carried custom
+    # normals, or core.shading.corner_normals from smooth flags and sharp edges); Blender's
+    # corner normals of the built LOD must measure the same.
+    for name, entry in res["deviation"].items():
+        (mean, p95), (b_mean, b_p95) = entry["report"], entry["blender"]
+        assert abs(mean - b_mean) < 0.05 and abs(p95 - b_p95) < 0.2, (name, entry)
+    assert not res["deviation"]["by_angle"]["has_custom"]  # sharp edges by angle, no custom normals

@@ -43,7 +43,7 @@ def table_rows(stdout):
     rows = {}
     for line in stdout.splitlines():
         cells = re.split(r"\s{2,}", line.strip())
-        if len(cells) == 10 and re.fullmatch(r"LOD\d+", cells[2]):
+        if len(cells) == 11 and re.fullmatch(r"LOD\d+", cells[2]):
             rows[cells[1]] = cells
     return rows
 
@@ -180,9 +180,13 @@ def test_report_matches_the_table_and_the_settings(batches):
                 assert int(cells[3].replace(",", "")) == lv["triangles"]
                 assert float(cells[5]) == pytest.approx(lv["hausdorff_percent"], abs=6e-4)
                 assert float(cells[6]) == pytest.approx(lv["mean_percent"], abs=6e-5)
-                assert cells[7] == f"{lv['mean_quality']:.3f} / {lv['min_quality']:.3f}"
+                assert cells[7] == f"{lv['normal_mean_degrees']:.2f} / {lv['normal_p95_degrees']:.1f}"
+                assert cells[8] == f"{lv['mean_quality']:.3f} / {lv['min_quality']:.3f}"
                 if lv["level"]:
                     assert lv["hausdorff_percent"] > 0 and lv["mean_percent"] <= lv["hausdorff_percent"], lv
+                    # (the mean may exceed the 95th percentile: a few large angles, the rest ~0)
+                    assert 0 <= lv["normal_mean_degrees"] <= lv["normal_max_degrees"] <= 180, lv
+                    assert 0 <= lv["normal_p95_degrees"] <= lv["normal_max_degrees"], lv
                     assert 0 < lv["min_quality"] <= lv["mean_quality"] <= 1 and lv["seconds"] >= 0, lv
                 else:
                     assert lv["hausdorff_percent"] == 0.0 and lv["target"] is None, lv

@@ -25,7 +25,8 @@ def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
     source = {"level": 0, "name": rep["object"], "target": None, "triangles": int(len(data.faces)),
               "vertices": int(len(data.vertices)), "seconds": 0.0}
     if lod_output.input.settings.measure_deviation:
-        source.update(hausdorff_percent=0.0, mean_percent=0.0)
+        source.update(hausdorff_percent=0.0, mean_percent=0.0, normal_mean_degrees=0.0, normal_p95_degrees=0.0,
+                      normal_max_degrees=0.0)
     source.update(core.quality_summary(data.vertices, data.faces))
     if rep.get("switch"):  # LOD0's switch numbers (switch_distances.py) go on its row
         source.update(rep["switch"].pop("lod0"))
@@ -107,9 +108,16 @@ def _fmt(value, spec, empty="-"):
     return empty if value is None else format(value, spec)
 
 
+def _normals_cell(level: dict) -> str:
+    """The shading normals' mean and 95th-percentile angle to the source's, degrees."""
+    if level.get("normal_mean_degrees") is None:
+        return "-"
+    return f"{level['normal_mean_degrees']:.2f} / {level['normal_p95_degrees']:.1f}"
+
+
 def format_table(files: list) -> str:
     header = ["File", "Object", "LOD", "Triangles", "Target", "Hausdorff %", "Mean %",
-              "Quality mean/min", "Slivers %", "Seconds"]
+              "Normals deg mean/p95", "Quality mean/min", "Slivers %", "Seconds"]
     rows = []
     for f in files:
         for obj in f["objects"]:
@@ -118,6 +126,7 @@ def format_table(files: list) -> str:
                     f["label"], level["name"], f"LOD{level['level']}", f"{level['triangles']:,}",
                     _target_cell(level),
                     _fmt(level.get("hausdorff_percent"), ".3f"), _fmt(level.get("mean_percent"), ".4f"),
+                    _normals_cell(level),
                     f"{level['mean_quality']:.3f} / {level['min_quality']:.3f}",
                     f"{level['sliver_percent']:.2f}",
                     "-" if level["level"] == 0 else f"{level['seconds']:.2f}",

@@ -1,5 +1,7 @@
 """Custom split normals carried to the LODs (issue 22 §3): a foliage-style sphere whose
-normals all point up, and a cube whose flat faces come from custom normals alone
+normals all point up, and a cube whose flat faces come from custom normals alone; and
+the report's shading-normal deviation, against the same LODs with their normals
+dropped and against Blender's own normals of the LODs
 (tests/test_addon_custom_normals.py checks what this returns)."""
 import bpy
 import numpy as np
@@ -57,6 +59,8 @@ def run() -> dict:
     result["flat"] = {"has_custom": lod_mesh.has_custom_normals, "triangles": len(lod_mesh.polygons),
                       "mean_angle": float(angles.mean()), "largest_angle": float(angles.max())}
 
+    result["deviation"] = normal_deviations()
+
     # Hard Edges: a smooth-shaded cube without sharp edges or custom normals.
     remove_all_objects()
     bpy.ops.mesh.primitive_cube_add()
@@ -80,3 +84,61 @@ def run() -> dict:
         on_cube_edge = (np.abs(np.abs(co) - 1.0) < 1e-5).sum(axis=2) >= 2  # two coordinates at +-1
         result[f"hard_{angle:g}"] = {"sharp": int(sharp.sum()), "on_cube_edges": int(on_cube_edge.all(axis=1).sum())}
     return result
+
+
+def normal_deviations() -> dict:
+    """Per source: the report's normal deviation of its 25 % LOD, the same measured with
+    Blender's corner normals of the LOD as built, and with the LOD's custom normals
+    dropped (reset to what Blender computes from its smooth flags and sharp edges)."""
+    lod_module = extension_module("addon.lod")
+    mesh_io = extension_module("addon.mesh_io")
+    measure = extension_module("addon.measure")
+    out = {}
+    for name in ("up", "weighted", "by_angle"):
+        remove_all_objects()
+        if name == "up":  # the foliage sphere
+            bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16)
+            ob = bpy.context.active_object
+            bpy.ops.object.shade_smooth()
+            ob.data.normals_split_custom_set([(0.0, 0.0, 1.0)] * len(ob.data.loops))
+        else:  # a bevelled box: Weighted Normal shading, or smooth with hard edges by angle
+            bpy.ops.mesh.primitive_cube_add()
+            ob = bpy.context.active_object
+            ob.scale = (1.0, 0.6, 0.4)
+            bpy.ops.object.transform_apply(scale=True)
+            bevel = ob.modifiers.new("bevel", 'BEVEL')
+            bevel.width, bevel.segments = 0.08, 3
+            bpy.ops.object.modifier_apply(modifier="bevel")
+            sub = ob.modifiers.new("sub", 'SUBSURF')
+            sub.subdivision_type, sub.levels = 'SIMPLE', 2
+            bpy.ops.object.modifier_apply(modifier="sub")
+            if name == "weighted":
+                bpy.ops.object.shade_smooth()
+                weighted = ob.modifiers.new("weighted", 'WEIGHTED_NORMAL')
+                weighted.keep_sharp = True
+                bpy.ops.object.modifier_apply(modifier="weighted")
+            else:
+                bpy.ops.object.shade_smooth_by_angle(angle=np.radians(30.0))
+        report = lod_module.generate_lods(bpy.context, ob, lod_module.LodSettings(levels=1, ratio=0.25))
+        level = report["levels"][0]
+        lod_mesh = bpy.data.objects[level["name"]].data
+        source, lod = mesh_io.read_mesh(ob.data), mesh_io.read_mesh(lod_mesh)
+
+        def against_source(normals):
+            return measure.normal_deviation(source.vertices, source.faces, source.corner_normals,
+                                            lod.vertices, lod.faces, normals, n_samples=lod_module.DEVIATION_SAMPLES)
+
+        entry = {"has_custom": lod_mesh.has_custom_normals,
+                 "report": [level[k] for k in ("normal_mean_degrees", "normal_p95_degrees")],
+                 "blender": [against_source(lod.corner_normals)[k] for k in ("normal_mean_degrees",
+                                                                            "normal_p95_degrees")]}
+        if lod_mesh.has_custom_normals:
+            lod_object = bpy.data.objects[level["name"]]
+            with bpy.context.temp_override(object=lod_object, active_object=lod_object):
+                bpy.ops.mesh.customdata_custom_splitnormals_clear()
+            dropped = mesh_io.read_mesh(lod_mesh)
+            entry["dropped_has_custom"] = lod_mesh.has_custom_normals
+            entry["dropped"] = [against_source(dropped.corner_normals)[k] for k in ("normal_mean_degrees",
+                                                                                   "normal_p95_degrees")]
+        out[name] = entry
+    return out
