@@ -38,7 +38,9 @@ REFINE_STEPS = 8  # counts tried between two rungs
 # Hausdorff distance came out at 1.0-1.37x the tracked bound (Fox, homer, fandisk, bunny
 # at 0.05-2 %), so 0.75 is within it on the first run, mostly.
 TRACKED_SHARE = 0.75
-TRACKED_RUNS = 3  # runs with ever smaller bounds for the levels still beyond
+TRACKED_RUNS = 3  # at most: a level that came out beyond, or needlessly close, runs again
+TRACKED_CLOSE = 0.8  # needlessly close: measured under this share of the deviation
+TRACKED_AIM = 0.9  # a run again aims at this share of it
 # Area samples a side for the estimates that steer the search (the report uses
 # measure.DEFAULT_SAMPLES); vertices are added either way.
 QUICK_SAMPLES = 50_000
@@ -153,14 +155,17 @@ class Found:
 
 
 def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
-                      exact: Callable[[object], float]) -> list:
+                      exact: Callable[[object], float], source_triangles: int) -> list:
     """A Found per requested deviation (increasing), from runs of the core with
     ``max_error`` bounds.
 
     run(bounds): the core's levels for a non-decreasing list of bounds (one run, one
-    level each); exact(level): its two-sided Hausdorff distance as reported. A level
-    beyond its deviation gets a bound smaller by the share it overshot (and 5 % more) in
-    the next run; a level within is kept unless a later run gives a coarser one within.
+    level each); exact(level): its two-sided Hausdorff distance as reported. Each run
+    rescales a level's bound by how its measurement missed the deviation (to
+    TRACKED_AIM of it): smaller where it came out beyond, larger where it came out
+    needlessly close (under TRACKED_CLOSE). The coarsest level measured within is kept;
+    a level with all of the source's triangles is no LOD and is not kept (its next
+    bound is the whole deviation).
     """
     deviations = [float(d) for d in deviations]
     shares = [TRACKED_SHARE] * len(deviations)
@@ -169,14 +174,18 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
         bounds = list(np.maximum.accumulate([share * d for share, d in zip(shares, deviations)]))
         again = False
         for i, level in enumerate(run(bounds)):
+            if len(level.faces) >= source_triangles:  # the bound allowed no collapse at all
+                if shares[i] < 1.0:
+                    shares[i], again = 1.0, True
+                continue
             best = found[i].level
             if best is not None and len(level.faces) >= len(best.faces):
-                continue  # no coarser than what is kept: nothing to measure
+                continue  # no coarser than what is kept
             hausdorff = float(exact(level))
             if hausdorff <= deviations[i]:
                 found[i] = Found(deviations[i], level, hausdorff)
-            else:
-                shares[i] *= 0.95 * deviations[i] / hausdorff
+            if not TRACKED_CLOSE <= hausdorff / deviations[i] <= 1.0:
+                shares[i] *= TRACKED_AIM * deviations[i] / max(hausdorff, 1e-12 * deviations[i])
                 again = True
         if not again:
             break

@@ -468,7 +468,7 @@ def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share
         return measured[id(level)]["hausdorff"]
 
     found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact, len(data.faces))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share)
         for f in found:

@@ -89,3 +89,23 @@ def test_the_view_of_the_switch_distances_is_set_on_the_command_line(sphere):
     switch = sidecar["objects"][0]["switch"]
     # Culled where the whole object (2R) would be the pixel budget: R H / (PX tan(fov / 2)).
     assert switch["cull_distance"] == pytest.approx(switch["bounding_sphere_radius"] * 720 / 2.0), switch
+
+
+def test_a_low_poly_mesh_gets_close_to_tight_bounds(tmp_path):
+    """Where each collapse of the error-ordered sequence jumps past a tight bound (a
+    low-poly mesh: the Fox kept 0.35x of 0.2 % that way), the core's tracked distance
+    bound still finds a level close to it."""
+    vertices, faces = uv_sphere(12)
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in vertices] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]
+    (tmp_path / "pebble.obj").write_text("\n".join(lines) + "\n")
+    report = tmp_path / "report.json"
+    code, _, stderr = run_cli(["--input", str(tmp_path / "pebble.obj"), "--max-error", "0.5%", "2%",
+                               "--output-dir", str(tmp_path / "out"), "--format", "obj", "--report", str(report)],
+                              tmp_path)
+    assert code == 0, stderr[-3000:]
+    levels = json.loads(report.read_text())["files"][0]["objects"][0]["levels"][1:]
+    assert [level["requested_deviation_percent"] for level in levels] == pytest.approx([0.5, 2.0])
+    for level in levels:
+        ratio = level["hausdorff_percent"] / level["requested_deviation_percent"]
+        assert 0.5 <= ratio <= 1.0, (level["triangles"], ratio)
+    assert levels[0]["triangles"] > levels[1]["triangles"]

@@ -93,30 +93,45 @@ def _fake_core(overshoot):
     return run, runs, lambda level: level.measured
 
 
-@pytest.mark.parametrize("overshoot", [1.0, 1.2, 1.4, 1.8])
+@pytest.mark.parametrize("overshoot", [0.7, 1.0, 1.2, 1.4, 1.8])
 def test_tracked_bounds_end_within_and_close(overshoot):
     """Every level ends within its deviation, however far the sampled distance overshoots
     the tracked bound, and not needlessly below it."""
     run, runs, exact = _fake_core(overshoot)
-    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, exact)
+    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, exact, 10**9)
     assert all(f.level is not None and f.hausdorff <= f.deviation for f in found), found
     assert all(f.hausdorff >= 0.5 * f.deviation for f in found), found
     counts = [len(f.level.faces) for f in found]
     assert counts[0] > counts[1] > counts[2]
     assert len(runs) <= dt.TRACKED_RUNS
-    if overshoot * dt.TRACKED_SHARE <= 1.0:
-        assert len(runs) == 1, "within on the first run: no second"
-    else:
+    if dt.TRACKED_CLOSE <= overshoot * dt.TRACKED_SHARE <= 1.0:
+        assert len(runs) == 1, "within and close on the first run: no second"
+    elif overshoot * dt.TRACKED_SHARE > 1.0:
         assert runs[1][0] < runs[0][0], "the bound shrinks where the level came out beyond"
+    else:
+        assert runs[1][0] > runs[0][0], "the bound grows where the level came out needlessly close"
+    assert all(f.hausdorff >= dt.TRACKED_CLOSE * f.deviation for f in found) or len(runs) == dt.TRACKED_RUNS
+
+
+def test_a_bound_that_allows_no_collapse_is_no_lod_and_is_loosened():
+    runs = []
+
+    def run(bounds):
+        runs.append(list(bounds))
+        return [_FakeLevel(100 if b < 1.0 else 80) for b in bounds]
+
+    found = dt.by_tracked_bounds([1.0], run, lambda level: 0.95, 100)
+    assert runs[0] == [dt.TRACKED_SHARE] and runs[1] == [1.0]
+    assert len(found[0].level.faces) == 80
 
 
 def test_tracked_bounds_leave_out_what_never_comes_within():
     run, runs, _ = _fake_core(1.0)
-    found = dt.by_tracked_bounds([1.0, 2.0], run, lambda level: 1e9)
+    found = dt.by_tracked_bounds([1.0, 2.0], run, lambda level: 1e9, 10**9)
     assert [f.level for f in found] == [None, None] and len(runs) == dt.TRACKED_RUNS
 
 
 def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
     """Two bounds that give the same level (a topology limit): the second is left out."""
-    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
+    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0, 100)
     assert found[0].level is not None and found[1].level is None
