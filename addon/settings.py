@@ -285,8 +285,8 @@ SETTINGS = (
     Setting("bake_resolution", 1024, "Resolution", "Width and height of each baked normal map, pixels",
             low=8, unit=" px", blender={"max": 16384, "soft_max": 4096}),
     Setting("measure_deviation", True, "Measure Deviation",
-            "Measure each LOD's distance to the source for the report "
-            "(takes about a second per LOD on large meshes)",
+            "Measure each LOD's distance to the source, and how far its shading normals "
+            "turn from the source's, for the report (takes about a second per LOD on large meshes)",
             flag="--no-measure", cli={"help": "skip the deviation measurement (faster; quality is still reported)"}),
 )
 BY_NAME = {s.name: s for s in SETTINGS}
