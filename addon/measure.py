@@ -215,7 +215,7 @@ def _normal_angles(samples, tri, bary, nearest, normals_a, v_b, f_b, normals_b) 
 
     shading = core.shading
     on_b = f_b[nearest]
-    at = shading.closest_barycentric(samples, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
+    at, _ = core.geometry.closest_on_triangles(samples, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
     return shading.angles_degrees(shading.interpolate(normals_a, tri, bary),
                                   shading.interpolate(normals_b, nearest, at))
 

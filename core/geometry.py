@@ -40,3 +40,49 @@ def edge_parameter(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> np.ndarray:
     dd = np.einsum("ij,ij->i", d, d)
     t = np.einsum("ij,ij->i", p - a, d) / np.where(dd > 0, dd, 1.0)
     return np.clip(np.where(dd > 0, t, 0.0), 0.0, 1.0)
+
+
+def closest_on_triangles(p, a, b, c) -> tuple:
+    """The point of each triangle (a[i], b[i], c[i]) closest to p[i], all (k, 3): its
+    barycentric weights of a, b, c (k, 3) and its squared distance to p (k,).
+
+    Inside the triangle's prism it is the projection on the plane; elsewhere it lies on
+    an edge the projection is beyond (the opposite barycentric coordinate is negative),
+    so only those edges are measured, as clamped segments. A degenerate triangle (no
+    area) is measured as its three edges."""
+    p, a, b, c = (np.asarray(x, dtype=np.float64) for x in (p, a, b, c))
+    ab, ac, ap = b - a, c - a, p - a
+    d00, d01, d11 = _dot(ab, ab), _dot(ab, ac), _dot(ac, ac)
+    d20, d21 = _dot(ap, ab), _dot(ap, ac)
+    denom = d00 * d11 - d01 * d01
+    flat = denom <= 1e-24 * np.maximum(d00 * d11, 1e-300)
+    safe = np.where(flat, 1.0, denom)
+    v = (d11 * d20 - d01 * d21) / safe
+    w = (d00 * d21 - d01 * d20) / safe
+    u = 1.0 - v - w
+    q = ap - v[:, None] * ab - w[:, None] * ac
+    inside = (u >= 0) & (v >= 0) & (w >= 0) & ~flat
+    d2 = np.where(inside, _dot(q, q), np.inf)
+    bary = np.stack([u, v, w], axis=1)
+    for beyond, i, j in ((w < 0, 0, 1), (u < 0, 1, 2), (v < 0, 2, 0)):
+        at = np.flatnonzero((beyond | flat) & ~inside)
+        if len(at) == 0:
+            continue
+        start, end = (a, b, c)[i][at], (a, b, c)[j][at]
+        e = end - start
+        ee = _dot(e, e)
+        t = np.clip(_dot(p[at] - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
+        r = p[at] - start - t[:, None] * e
+        dist = _dot(r, r)
+        closer = dist < d2[at]
+        rows_ = at[closer]
+        d2[rows_] = dist[closer]
+        bary[rows_] = 0.0
+        bary[rows_, i] = 1.0 - t[closer]
+        bary[rows_, j] = t[closer]
+    return bary, d2
+
+
+def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Row-wise dot products of (k, 3) arrays."""
+    return np.einsum("ij,ij->i", x, y)

@@ -7,8 +7,7 @@ addon/measure.py's (Blender's BVH tree).
 
     corner_normals(vertices, faces, smooth, sharp_edges) -> (m, 3, 3)
         Blender's shading normal of each triangle corner for a mesh without custom normals
-    closest_barycentric(points, a, b, c) -> (k, 3)
-        where on each triangle the closest point to each point lies
+    (where on a triangle the closest point lies: core.geometry.closest_on_triangles)
     interpolate(corner_normals, tri, bary) -> (k, 3)
         the shading normal at those places, as a renderer interpolates it
     angles_degrees(a, b) -> (k,)    and    angle_summary(angles) -> {mean, p95, max}
@@ -80,66 +79,6 @@ def corner_normals(vertices, faces, smooth, sharp_edges=None) -> np.ndarray:
     flat = ~np.repeat(smooth, 3)
     out[flat] = np.repeat(normals, 3, axis=0)[flat]
     return out.reshape(m, 3, 3)
-
-
-def closest_barycentric(points, a, b, c) -> np.ndarray:
-    """(k, 3) barycentric coordinates (weights of a, b, c) of the point of each triangle
-    a[i], b[i], c[i] closest to points[i]; all (k, 3). Ericson, Real-Time Collision
-    Detection 5.1.5, in bulk: the regions are tested in the book's order, the first that
-    holds wins. A degenerate triangle (no area) is taken as its three edges."""
-    p, a, b, c = (np.asarray(x, dtype=np.float64) for x in (points, a, b, c))
-    ab, ac = b - a, c - a
-    ap, bp, cp = p - a, p - b, p - c
-    d1, d2 = _dot(ab, ap), _dot(ac, ap)
-    d3, d4 = _dot(ab, bp), _dot(ac, bp)
-    d5, d6 = _dot(ab, cp), _dot(ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        total = va + vb + vc
-        v_in, w_in = vb / total, vc / total
-        t_ab = d1 / (d1 - d3)
-        t_ac = d2 / (d2 - d6)
-        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        bary = np.stack([1 - v_in - w_in, v_in, w_in], axis=1)
-    k = len(p)
-    one, zero = np.ones(k), np.zeros(k)
-    # Candidates and their tests, in the book's order.
-    cases = [
-        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),
-        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),
-        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1 - t_ab, t_ab, zero)),
-        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),
-        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1 - t_ac, zero, t_ac)),
-        ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), (zero, 1 - t_bc, t_bc)),
-    ]
-    for test, weights in reversed(cases):
-        bary[test] = np.stack(weights, axis=1)[test]
-    # A degenerate triangle (no area) is three segments: the closest point of the nearest.
-    degenerate = np.linalg.norm(cross(ab, ac), axis=1) <= 1e-12 * (_dot(ab, ab) + _dot(ac, ac))
-    degenerate |= ~np.isfinite(bary).all(axis=1)
-    if degenerate.any():
-        bary[degenerate] = _closest_on_edges(p[degenerate], a[degenerate], b[degenerate], c[degenerate])
-    return bary
-
-
-def _closest_on_edges(p, a, b, c) -> np.ndarray:
-    """Barycentric coordinates of the closest point to p on the edges ab, bc, ca."""
-    best = np.full(len(p), np.inf)
-    bary = np.zeros((len(p), 3))
-    for i, j in ((0, 1), (1, 2), (2, 0)):
-        x, y = (a, b, c)[i], (a, b, c)[j]
-        d = y - x
-        dd = _dot(d, d)
-        t = np.clip(np.divide(_dot(p - x, d), dd, out=np.zeros(len(p)), where=dd > 0), 0.0, 1.0)
-        dist = np.linalg.norm(x + t[:, None] * d - p, axis=1)
-        closer = dist < best
-        best[closer] = dist[closer]
-        bary[closer] = 0.0
-        bary[closer, i] = 1.0 - t[closer]
-        bary[closer, j] = t[closer]
-    return bary
 
 
 def interpolate(corner_normals: np.ndarray, tri: np.ndarray, bary: np.ndarray) -> np.ndarray:

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import rows
+from .geometry import closest_on_triangles, rows
 
 
 # Points inside each input face: a barycentric grid of this many steps a side, corners
@@ -119,7 +119,7 @@ class TrackedDistance:
             face = candidate[home]
             has = np.flatnonzero(face >= 0)
             t = new_tri[face[has]]
-            d = point_triangle_distance_sq(xyz[has], t[:, 0], t[:, 1], t[:, 2])
+            d = _distance_sq(xyz[has], t[:, 0], t[:, 1], t[:, 2])
             closer = d < d2[has]
             d2[has[closer]] = d[closer]
             new_face[has[closer]] = face[has[closer]]
@@ -251,7 +251,7 @@ class _Groups:
         pair = np.repeat(np.arange(len(queries)), count)
         member = self.members[_ranges(self.start[query_owner], count)]
         tri = triangles_of(member) if len(member) else np.zeros((0, 3, 3))
-        d2 = point_triangle_distance_sq(rows(queries, pair), tri[:, 0], tri[:, 1], tri[:, 2])
+        d2 = _distance_sq(rows(queries, pair), tri[:, 0], tri[:, 1], tri[:, 2])
         best = np.full(len(queries), np.inf)
         np.minimum.at(best, pair, d2)
         hit = np.flatnonzero(d2 == best[pair])
@@ -269,38 +269,6 @@ def _ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return np.arange(total) + offsets
 
 
-def point_triangle_distance_sq(p, a, b, c) -> np.ndarray:
-    """(k,) squared distances from points p (k, 3) to triangles (a, b, c), each (k, 3).
-
-    Inside the triangle's prism the distance is to the plane; elsewhere the closest
-    point lies on an edge the point's projection is beyond (its opposite barycentric
-    coordinate is negative), so only those edges are measured, as clamped segments.
-    Degenerate triangles are measured as their three edges."""
-    ab, ac, ap = b - a, c - a, p - a
-    d00 = np.einsum("ij,ij->i", ab, ab)
-    d01 = np.einsum("ij,ij->i", ab, ac)
-    d11 = np.einsum("ij,ij->i", ac, ac)
-    d20 = np.einsum("ij,ij->i", ap, ab)
-    d21 = np.einsum("ij,ij->i", ap, ac)
-    denom = d00 * d11 - d01 * d01
-    flat = denom <= 1e-30 * np.maximum(d00 * d11, 1e-300)
-    safe = np.where(flat, 1.0, denom)
-    v = (d11 * d20 - d01 * d21) / safe
-    w = (d00 * d21 - d01 * d20) / safe
-    u = 1.0 - v - w
-    q = ap - v[:, None] * ab - w[:, None] * ac
-    best = np.where((u >= 0) & (v >= 0) & (w >= 0) & ~flat, np.einsum("ij,ij->i", q, q), np.inf)
-    for beyond, start, end in ((w < 0, a, b), (u < 0, b, c), (v < 0, c, a)):
-        rows_ = np.flatnonzero(beyond | flat)
-        if len(rows_):
-            best[rows_] = np.minimum(best[rows_], _segment_distance_sq(p[rows_], start[rows_], end[rows_]))
-    return best
-
-
-def _segment_distance_sq(p, start, end) -> np.ndarray:
-    """(k,) squared distances from points p (k, 3) to segments start-end (k, 3)."""
-    e = end - start
-    ee = np.einsum("ij,ij->i", e, e)
-    t = np.clip(np.einsum("ij,ij->i", p - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-    q = p - start - t[:, None] * e
-    return np.einsum("ij,ij->i", q, q)
+def _distance_sq(p, a, b, c) -> np.ndarray:
+    """(k,) squared distance from each point p (k, 3) to its triangle (a, b, c)."""
+    return closest_on_triangles(p, a, b, c)[1]

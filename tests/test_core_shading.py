@@ -9,6 +9,7 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
 from core import shading
+from core.geometry import closest_on_triangles
 import mesh_builders as build
 
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True,
@@ -70,7 +71,7 @@ def test_angle_summary():
 def test_closest_point_is_no_farther_than_any_point_of_the_triangle(seed):
     a, b, c, rng = _random_triangles(seed, 200)
     p = rng.normal(size=(200, 3)) * 2.0
-    bary = shading.closest_barycentric(p, a, b, c)
+    bary, _ = closest_on_triangles(p, a, b, c)
     assert np.all(bary >= -1e-12) and np.allclose(bary.sum(axis=1), 1.0)
     q = bary[:, :1] * a + bary[:, 1:2] * b + bary[:, 2:] * c
     d = np.linalg.norm(q - p, axis=1)
@@ -88,7 +89,7 @@ def test_a_point_on_the_triangle_is_its_own_closest_point(seed):
     a, b, c, rng = _random_triangles(seed, 100)
     w = rng.dirichlet([1.0, 1.0, 1.0], 100)
     p = w[:, :1] * a + w[:, 1:2] * b + w[:, 2:] * c
-    assert np.allclose(shading.closest_barycentric(p, a, b, c), w, atol=1e-7)
+    assert np.allclose(closest_on_triangles(p, a, b, c)[0], w, atol=1e-7)
 
 
 def test_degenerate_triangles_are_their_edges():
@@ -96,7 +97,7 @@ def test_degenerate_triangles_are_their_edges():
     b = np.array([[2.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
     c = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])  # a segment, and a point
     p = np.array([[1.5, 1.0, 0.0], [1.0, 1.0, 1.0]])
-    bary = shading.closest_barycentric(p, a, b, c)
+    bary, _ = closest_on_triangles(p, a, b, c)
     assert np.all(np.isfinite(bary))
     q = bary[:, :1] * a + bary[:, 1:2] * b + bary[:, 2:] * c
     assert np.allclose(q, [[1.5, 0.0, 0.0], [0.0, 0.0, 0.0]])

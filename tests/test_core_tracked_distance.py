@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import core
-from core.tracked_distance import FACE_GRID, _barycentric_grid, point_triangle_distance_sq
+from core.geometry import closest_on_triangles
+from core.tracked_distance import FACE_GRID, _barycentric_grid
 
 import mesh_builders as build
 import mesh_checks as check
@@ -25,7 +26,7 @@ def _distance_to_mesh(points, vertices, faces) -> np.ndarray:
     best = np.full(len(points), np.inf)
     for a, b, c in zip(tri[:, 0], tri[:, 1], tri[:, 2]):
         k = len(points)
-        d2 = point_triangle_distance_sq(points, np.tile(a, (k, 1)), np.tile(b, (k, 1)), np.tile(c, (k, 1)))
+        _, d2 = closest_on_triangles(points, np.tile(a, (k, 1)), np.tile(b, (k, 1)), np.tile(c, (k, 1)))
         best = np.minimum(best, d2)
     return np.sqrt(best)
 
@@ -38,7 +39,7 @@ point3 = st.tuples(coordinates, coordinates, coordinates)
 @given(point3, point3, point3, point3)
 def test_point_triangle_distance_is_the_distance_to_the_closest_point(p, a, b, c):
     p, a, b, c = (np.array([x], dtype=float) for x in (p, a, b, c))
-    d = np.sqrt(point_triangle_distance_sq(p, a, b, c))[0]
+    d = np.sqrt(closest_on_triangles(p, a, b, c)[1])[0]
     # Never more than the distance to any point of the triangle...
     samples = _on_triangles(np.concatenate([a, b, c]), np.array([[0, 1, 2]]), steps=40)
     nearest_sample = np.linalg.norm(samples - p, axis=1).min()
