@@ -287,8 +287,15 @@ def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float =
     shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
     smooth_group = data.smooth_group[fo]
     faces = result.faces
-    # Normals split where the source's did: between faces of different smoothing regions.
-    sharp = edge_util.differing_edges(faces, smooth_group) if len(data.sharp_edges) else np.empty((0, 2), np.int64)
+    # Normals split where the source's did: between faces of different smoothing regions,
+    # which sharp edges bound, and vertices split apart (an exported asset's hard edges;
+    # every edge, where each triangle has its own vertices). The core welds such vertices,
+    # so without this the LOD would shade smooth across them. Carried custom normals say
+    # themselves how the LOD shades; with them only the sharp edges are marked.
+    if len(data.sharp_edges) or "normal" not in ca:
+        sharp = edge_util.differing_edges(faces, smooth_group)
+    else:
+        sharp = np.empty((0, 2), np.int64)
     if hard_edge_angle > 0 and "normal" not in ca:
         sharp = edge_util.unique_edges(np.concatenate(
             [sharp.reshape(-1, 2), core.features.sharp_edges(result.vertices, faces, hard_edge_angle)]))

@@ -47,6 +47,15 @@ def test_carried_normals_measure_small_and_dropped_ones_clearly_larger(res):
     assert not weighted["dropped_has_custom"] and weighted["dropped"][0] > 2.5 * weighted["report"][0], weighted
 
 
+def test_vertices_split_apart_in_the_source_stay_hard_edges(res):
+    # Every triangle with its own vertices (an Edge Split at 0 degrees, applied): the
+    # source looks faceted with neither sharp edges nor custom normals. The core welds the
+    # vertices; the LOD marks the edges between faces of different source regions sharp,
+    # so it looks faceted too (it was shaded smooth).
+    split = res["deviation"]["split"]
+    assert not split["has_custom"] and split["facet_angle"] < 0.1, split
+
+
 def test_the_report_measures_the_normals_blender_gives_the_lod(res):
     # The report computes the LOD's normals before the mesh exists (carried custom
     # normals, or core.shading.corner_normals from smooth flags and sharp edges); Blender's

@@ -94,9 +94,16 @@ def normal_deviations() -> dict:
     mesh_io = extension_module("addon.mesh_io")
     measure = extension_module("addon.measure")
     out = {}
-    for name in ("up", "weighted", "by_angle"):
+    for name in ("up", "weighted", "by_angle", "split"):
         remove_all_objects()
-        if name == "up":  # the foliage sphere
+        if name == "split":  # faceted by split vertices, as exported assets are: no sharp edges, no custom normals
+            bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)
+            ob = bpy.context.active_object
+            bpy.ops.object.shade_smooth()
+            split = ob.modifiers.new("split", 'EDGE_SPLIT')
+            split.split_angle = 0.0
+            bpy.ops.object.modifier_apply(modifier="split")
+        elif name == "up":  # the foliage sphere
             bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16)
             ob = bpy.context.active_object
             bpy.ops.object.shade_smooth()
@@ -140,5 +147,11 @@ def normal_deviations() -> dict:
             entry["dropped_has_custom"] = lod_mesh.has_custom_normals
             entry["dropped"] = [against_source(dropped.corner_normals)[k] for k in ("normal_mean_degrees",
                                                                                    "normal_p95_degrees")]
+        if name == "split":  # faceted like the source: each corner's normal is its face's
+            face_normals = np.empty(3 * len(lod_mesh.polygons))
+            lod_mesh.polygons.foreach_get("normal", face_normals)
+            loop_face = np.repeat(np.arange(len(lod_mesh.polygons)), [p.loop_total for p in lod_mesh.polygons])
+            cos = np.einsum("ij,ij->i", corner_normals(lod_mesh), face_normals.reshape(-1, 3)[loop_face])
+            entry["facet_angle"] = float(np.degrees(np.arccos(np.clip(cos, -1, 1))).max())
         out[name] = entry
     return out
