@@ -1,0 +1,22 @@
+"""Deviation targets fall back to the ladder where the core's tracked bound finds no level
+(addon/lod.py _by_deviation; the scenario replaces the tracked search by one that finds
+nothing)."""
+import pytest
+
+from bpy_harness import run_scenario
+
+
+@pytest.fixture(scope="module")
+def res(blender_user_dir):
+    return run_scenario("deviation_fallback", user_dir=blender_user_dir, timeout=600)
+
+
+def test_the_ladder_gives_levels_within_their_bounds_when_the_bound_finds_none(res):
+    assert res["fallback_calls"] == [2], res
+    for name in ("tracked", "ladder"):
+        levels = res[name]
+        assert [level["requested_deviation_percent"] for level in levels] == pytest.approx([0.5, 2.0]), (name, levels)
+        for level in levels:
+            assert level["hausdorff_percent"] <= level["requested_deviation_percent"], (name, level)
+            assert level["triangles"] < res["source_triangles"], (name, level)
+        assert levels[0]["triangles"] > levels[1]["triangles"], (name, levels)
