@@ -76,7 +76,11 @@ class TrackedDistance:
         self.source_face = np.concatenate([np.full(len(vertex_points), -1, dtype=np.int64), on_face])
         self.distance = np.zeros(len(self.points))
         self.input_faces = input_faces
-        self.vertex_distance = 0.0  # the largest LOD-to-source bound of a new fan, so far
+        # Per input face id: an upper bound on the distance from the live face that
+        # descends from it to the source (0 while it is the input face itself).
+        self.face_far = np.zeros(input_faces)
+        # Per vertex: an upper bound on its distance to the source (0 where it has not moved).
+        self.vertex_far = np.zeros(len(vertices))
         self.rejected = False  # has the bound rejected a collapse?
         self._pending = []
         self._index()
@@ -87,10 +91,12 @@ class TrackedDistance:
         self.starts = np.searchsorted(self.face_of_point[self.order], np.arange(self.input_faces + 1))
 
     def largest(self) -> float:
-        """The bound so far: the farthest point, or new vertex, from the other surface."""
-        return max(float(self.distance.max()) if len(self.distance) else 0.0, self.vertex_distance)
+        """The bound so far: the farthest point, or face, from the other surface."""
+        return max(float(self.distance.max()) if len(self.distance) else 0.0,
+                   float(self.face_far.max()) if len(self.face_far) else 0.0)
 
-    def within(self, bound: float, face_origin, fan_faces, collapse, new_tri, is_new, ring, c, edges) -> np.ndarray:
+    def within(self, bound: float, face_origin, fan_faces, collapse, new_tri, is_new, ring, moving, moved,
+               keep, edges) -> np.ndarray:
         """(c,) bool: the collapses whose new fan keeps every point of their old fan, and
         itself, within ``bound`` of the other surface.
 
@@ -98,102 +104,154 @@ class TrackedDistance:
         collapse (k,): which of the c collapses; new_tri (k, 3, 3): the face each row
         becomes (rows where is_new (k,) is False die with the edge); ring (k, 2): the
         row's two corners that stay (vertex ids; on a dying row, the other end and the
-        corner opposite the edge); edges (c,): the collapses' edge ids, to recognise
-        them when they are applied (``commit``)."""
+        corner opposite the edge); moving (k,): the row's moving corner (vertex id) and
+        moved (k,) how far it goes; keep (c,): the vertex each collapse keeps (at the
+        new position); edges (c,): the collapses' edge ids, to recognise them when they
+        are applied (``commit``).
+
+        A face whose one corner moves by m moves none of its points by more than m, so
+        a point's (or a face's) distance grows by at most m: where that bound stays
+        under CLOSE_ENOUGH of ``bound`` nothing is measured (early on, nearly
+        everywhere); elsewhere the distances are measured and replace the bounds."""
+        c = len(edges)
         ids = face_origin[fan_faces]
+        limit = CLOSE_ENOUGH * bound
         # Every point of the old fans, with the fan row it lies on.
         counts = self.starts[ids + 1] - self.starts[ids]
         home = np.repeat(np.arange(len(ids)), counts)
         point = self.order[_ranges(self.starts[ids], counts)]
         owner = collapse[home]
-        xyz = rows(self.points, point)
 
-        # Source to LOD. Most points stay close to the face their face becomes (a dying
-        # face's points: to one of the two new faces on its opposite corner), which
-        # costs one or two distances; only the rest are measured against every new face
-        # of their collapse.
-        first, second = _next_faces(collapse, is_new, ring)
-        d2 = np.full(len(point), np.inf)
-        new_face = np.full(len(point), -1, dtype=np.int64)
-        for candidate in (first, second):
-            face = candidate[home]
-            has = np.flatnonzero(face >= 0)
-            t = new_tri[face[has]]
-            d = _distance_sq(xyz[has], t[:, 0], t[:, 1], t[:, 2])
-            closer = d < d2[has]
-            d2[has[closer]] = d[closer]
-            new_face[has[closer]] = face[has[closer]]
-        far = np.flatnonzero(d2 > (CLOSE_ENOUGH * bound) ** 2)
-        if len(far):
-            new_rows = np.flatnonzero(is_new)
-            groups = _Groups(collapse[new_rows], c)
-            d2_far, row = groups.nearest(xyz[far], owner[far], lambda m: new_tri[new_rows[m]])
-            better = d2_far < d2[far]
-            d2[far[better]] = d2_far[better]
-            new_face[far[better]] = new_rows[row[better]]
+        # Source to LOD: the bound on the face its face becomes; where that is too loose
+        # (or the face dies), measured against that face (a dying face's points: the two
+        # new faces on its opposite corner), and where that is still far, against every
+        # new face of the collapse.
+        d = self.distance[point] + moved[home]
+        new_face = np.where(is_new[home], home, -1)
+        loose = np.flatnonzero((d > limit) | (new_face < 0))
+        if len(loose):
+            xyz = rows(self.points, point[loose])
+            first, second = _next_faces(collapse, is_new, ring)
+            d2 = np.full(len(loose), np.inf)
+            face_of = np.full(len(loose), -1, dtype=np.int64)
+            for candidate in (first, second):
+                face = candidate[home[loose]]
+                has = np.flatnonzero(face >= 0)
+                t = new_tri[face[has]]
+                d2_here = _distance_sq(xyz[has], t[:, 0], t[:, 1], t[:, 2])
+                closer = d2_here < d2[has]
+                d2[has[closer]] = d2_here[closer]
+                face_of[has[closer]] = face[has[closer]]
+            far = np.flatnonzero(d2 > limit * limit)
+            if len(far):
+                new_rows = np.flatnonzero(is_new)
+                groups = _Groups(collapse[new_rows], c)
+                d2_far, row = groups.nearest(xyz[far], owner[loose[far]], lambda m: new_tri[new_rows[m]])
+                better = d2_far < d2[far]
+                d2[far[better]] = d2_far[better]
+                face_of[far[better]] = new_rows[row[better]]
+            d[loose] = np.sqrt(d2)
+            new_face[loose] = face_of
         worst = np.zeros(c)
-        np.maximum.at(worst, owner, d2)
+        np.maximum.at(worst, owner, d)
 
-        lod_sq = self._lod_to_source_sq(new_tri, is_new, collapse, ids, point, new_face, bound, c)
-        ok = (worst <= bound * bound) & (lod_sq <= bound * bound)
+        face_far, lod_worst, vertex = self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face,
+                                                          moved, moving, ring, limit, c)
+        ok = (worst <= bound) & (lod_worst <= bound)
         self.rejected |= bool((~ok[np.unique(collapse)]).any())
-        # Remember where the points of the accepted collapses go.
-        mine = ok[owner]
-        self._pending.append((edges[owner[mine]], point[mine], face_origin[fan_faces[new_face[mine]]],
-                              np.sqrt(d2[mine]), edges[ok], np.sqrt(lod_sq[ok])))
+        # Remember where the points of the accepted collapses go, and their faces' and new
+        # vertices' bounds.
+        mine, rows_ok = ok[owner], np.flatnonzero(is_new & ok[collapse])
+        self._pending.append((edges[owner[mine]], point[mine], face_origin[fan_faces[new_face[mine]]], d[mine],
+                              edges[collapse[rows_ok]], ids[rows_ok], face_far[rows_ok],
+                              edges[ok], keep[ok], vertex[ok]))
         return ok
 
-    def _lod_to_source_sq(self, new_tri, is_new, collapse, ids, point, new_face, bound, c) -> np.ndarray:
-        """(c,) the largest squared distance from each new fan to the source, at points of
-        its faces (the new vertex, centroids and new edges' midpoints): to the nearest input
-        triangle under the face (the one it descends from, or one it holds points of),
-        and where that is beyond ``bound``, under the whole old fan. An upper bound at
-        those points."""
-        new_rows = np.flatnonzero(is_new)
-        t = new_tri[new_rows]
-        # (The far edge's points are as far from the source as before: it does not move.)
-        samples = np.stack([t[:, 0], t.mean(axis=1), 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 0] + t[:, 2])],
-                           axis=1).reshape(-1, 3)
-        per_face = samples.shape[0] // max(len(new_rows), 1)
-        sample_row = np.repeat(new_rows, per_face)
-        # Input triangles under each fan row: its own, and those of the points it now holds.
+    def _lod_to_source(self, new_tri, is_new, collapse, ids, point, home, new_face, moved, moving, ring, limit,
+                       c) -> tuple:
+        """((k,), (c,), (c,)): upper bounds on each new face's distance to the source (0 on
+        dying rows), the largest per collapse, and the new vertex's.
+
+        The new vertex: no farther than either end's bound plus how far that end moves,
+        and where that passes ``limit``, measured against the input triangles under the
+        old fan (those its faces descend from, or whose points they hold). A face: its
+        bound from before plus how far its corner moved, and where that passes
+        ``limit``, its corners' bounds and its points measured (centroid and new edges'
+        midpoints) against the input triangles under the face, or under the whole old
+        fan where those are beyond ``limit`` too. Vertices' bounds are sure; between the
+        measured points a face can stray a little further."""
         source = self.source_face[point]
-        has = source >= 0
-        under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
-                                     np.concatenate([ids, source[has]]), len(ids), self.input_faces)
-        d2, _ = under_row.nearest(samples, sample_row, lambda m: self.triangles[m])
-        # The new vertex is on every new face: it is as near as its nearest face says.
-        is_vertex = np.zeros(len(samples), dtype=bool)
-        is_vertex[::per_face] = True
-        vertex_sq = np.full(c, np.inf)
-        np.minimum.at(vertex_sq, collapse[sample_row[is_vertex]], d2[is_vertex])
-        d2[is_vertex] = vertex_sq[collapse[sample_row[is_vertex]]]
-        far = d2 > bound * bound
-        # Each new vertex once.
-        repeat = np.flatnonzero(is_vertex)
-        far[repeat[np.concatenate([[False], collapse[sample_row[repeat[1:]]] == collapse[sample_row[repeat[:-1]]]])]] = False
-        far = np.flatnonzero(far)
-        if len(far):
-            under_fan = _Groups.of_pairs(np.concatenate([collapse, collapse[new_face[has]]]),
-                                         np.concatenate([ids, source[has]]), c, self.input_faces)
-            d2_far, _ = under_fan.nearest(samples[far], collapse[sample_row[far]],
-                                          lambda m: self.triangles[m])
-            d2[far] = np.minimum(d2[far], d2_far)
+        has = (source >= 0) & (new_face >= 0)
+        under_fan = None
+
+        def nearest_under_fan(queries, owner):
+            nonlocal under_fan
+            if under_fan is None:
+                under_fan = _Groups.of_pairs(np.concatenate([collapse, collapse[new_face[has]]]),
+                                             np.concatenate([ids, source[has]]), c, self.input_faces)
+            return under_fan.nearest(queries, owner, lambda m: self.triangles[m])[0]
+
+        vertex = np.full(c, np.inf)
+        np.minimum.at(vertex, collapse, self.vertex_far[moving] + moved)
+        loose_vertex = np.flatnonzero(vertex > limit)
+        if len(loose_vertex):
+            at = np.zeros(c, dtype=np.int64)
+            at[collapse[::-1]] = np.arange(len(collapse))[::-1]  # a row of each collapse: its x
+            x = new_tri[at, 0]
+            # First the input triangle of the fan's nearest point inside a face (cheap
+            # distances to points); only where that one is too far, all under the fan.
+            inside = np.flatnonzero(source >= 0)
+            owner_in = collapse[home[inside]]
+            gap = np.einsum("ij,ij->i", self.points[point[inside]] - x[owner_in], self.points[point[inside]] - x[owner_in])
+            nearest_point = np.full(c, np.inf)
+            np.minimum.at(nearest_point, owner_in, gap)
+            hit = np.flatnonzero(gap == nearest_point[owner_in])
+            tri_of = np.full(c, -1, dtype=np.int64)
+            tri_of[owner_in[hit]] = source[inside[hit]]
+            measured = np.full(len(loose_vertex), np.inf)
+            known = np.flatnonzero(tri_of[loose_vertex] >= 0)
+            t = self.triangles[tri_of[loose_vertex[known]]]
+            measured[known] = _distance_sq(x[loose_vertex[known]], t[:, 0], t[:, 1], t[:, 2])
+            again = np.flatnonzero(measured > limit * limit)
+            if len(again):
+                measured[again] = np.minimum(measured[again],
+                                             nearest_under_fan(x[loose_vertex[again]], loose_vertex[again]))
+            vertex[loose_vertex] = np.minimum(vertex[loose_vertex], np.sqrt(measured))
+
+        face_far = np.where(is_new, self.face_far[ids] + moved, 0.0)
+        loose = np.flatnonzero(is_new & (face_far > limit))
+        if len(loose):
+            t = new_tri[loose]
+            # (The far edge's points are as far from the source as before: it does not move.)
+            samples = np.stack([t.mean(axis=1), 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 0] + t[:, 2])],
+                               axis=1).reshape(-1, 3)
+            per_face = samples.shape[0] // len(loose)
+            sample_row = np.repeat(loose, per_face)
+            under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
+                                         np.concatenate([ids, source[has]]), len(ids), self.input_faces)
+            d2, _ = under_row.nearest(samples, sample_row, lambda m: self.triangles[m])
+            far = np.flatnonzero(d2 > limit * limit)
+            if len(far):
+                d2[far] = np.minimum(d2[far], nearest_under_fan(samples[far], collapse[sample_row[far]]))
+            corners = np.maximum(vertex[collapse[loose]], self.vertex_far[ring[loose]].max(axis=1))
+            face_far[loose] = np.maximum(np.sqrt(d2).reshape(-1, per_face).max(axis=1), corners)
         worst = np.zeros(c)
-        np.maximum.at(worst, collapse[sample_row], d2)
-        return worst
+        np.maximum.at(worst, collapse, face_far)
+        return face_far, np.maximum(worst, vertex), vertex
 
     def commit(self, applied_edges: np.ndarray):
-        """Move the points of the collapses applied (by edge id) to their new faces; drop
-        what was measured for collapses not applied."""
+        """Move the points of the collapses applied (by edge id) to their new faces, and
+        keep their new faces' bounds; drop what was measured for collapses not applied."""
         if self._pending:
-            edge, point, face, dist, vertex_edge, vertex_dist = (np.concatenate(parts) for parts in zip(*self._pending))
+            (edge, point, face, dist, face_edge, face_id, far,
+             vertex_edge, vertex_id, vertex_far) = (np.concatenate(parts) for parts in zip(*self._pending))
             keep = np.isin(edge, applied_edges)
             self.face_of_point[point[keep]] = face[keep]
             self.distance[point[keep]] = dist[keep]
+            applied = np.isin(face_edge, applied_edges)
+            self.face_far[face_id[applied]] = far[applied]
             applied = np.isin(vertex_edge, applied_edges)
-            if applied.any():
-                self.vertex_distance = max(self.vertex_distance, float(vertex_dist[applied].max()))
+            self.vertex_far[vertex_id[applied]] = vertex_far[applied]
             self._pending = []
             self._index()
 

@@ -82,8 +82,9 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         ring = np.stack([nb_next[fan], nb_prev[fan]], axis=1)
         swap = dying[fan] & (ring[:, 1] == other_end[fan])
         ring[swap] = ring[swap][:, ::-1]
+        moved = np.linalg.norm(new_tri[:, 0] - rows(s.V, moving[fan]), axis=1)
         ok &= s.tracker.within(s.max_error, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], ring,
-                               c, edge)
+                               moving[fan], moved, keep, edge)
     return ok
 
 
