@@ -55,7 +55,8 @@ def closest_on_triangles(p, a, b, c) -> tuple:
     d00, d01, d11 = _dot(ab, ab), _dot(ab, ac), _dot(ac, ac)
     d20, d21 = _dot(ap, ab), _dot(ap, ac)
     denom = d00 * d11 - d01 * d01
-    flat = denom <= 1e-24 * np.maximum(d00 * d11, 1e-300)
+    # Nearly collinear corners (sin^2 of the angle at a below 1e-12): as three edges.
+    flat = denom <= 1e-12 * np.maximum(d00 * d11, 1e-300)
     safe = np.where(flat, 1.0, denom)
     v = (d11 * d20 - d01 * d21) / safe
     w = (d00 * d21 - d01 * d20) / safe

@@ -227,9 +227,21 @@ class TrackedDistance:
                                axis=1).reshape(-1, 3)
             per_face = samples.shape[0] // len(loose)
             sample_row = np.repeat(loose, per_face)
-            under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
-                                         np.concatenate([ids, source[has]]), len(ids), self.input_faces)
-            d2, _ = under_row.nearest(samples, sample_row, lambda m: self.triangles[m])
+            # First the input triangle of the face's nearest point inside an input face
+            # (cheap distances to points); where that one is too far, all under the face.
+            inside = np.flatnonzero(has)
+            by_row = _Groups(new_face[inside], len(ids), inside)
+            _, nearest_point = by_row.nearest(samples, sample_row, points_of=lambda m: self.points[point[m]])
+            d2 = np.full(len(samples), np.inf)
+            known = np.flatnonzero(nearest_point >= 0)
+            t = self.triangles[source[nearest_point[known]]]
+            d2[known] = _distance_sq(samples[known], t[:, 0], t[:, 1], t[:, 2])
+            again = np.flatnonzero(d2 > limit * limit)
+            if len(again):
+                under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
+                                             np.concatenate([ids, source[has]]), len(ids), self.input_faces)
+                d2[again] = np.minimum(d2[again], under_row.nearest(samples[again], sample_row[again],
+                                                                    lambda m: self.triangles[m])[0])
             far = np.flatnonzero(d2 > limit * limit)
             if len(far):
                 d2[far] = np.minimum(d2[far], nearest_under_fan(samples[far], collapse[sample_row[far]]))
@@ -301,15 +313,20 @@ class _Groups:
         code = np.unique(owner * np.int64(members) + member)
         return cls(code // members, owners, code % members)
 
-    def nearest(self, queries: np.ndarray, query_owner: np.ndarray, triangles_of) -> tuple:
-        """For each query point (q, 3) the squared distance to the nearest triangle of its
-        owner's group, and that member (-1, and inf, for an empty group).
-        triangles_of maps members (k,) to their (k, 3, 3) triangles."""
+    def nearest(self, queries: np.ndarray, query_owner: np.ndarray, triangles_of=None, points_of=None) -> tuple:
+        """For each query point (q, 3) the squared distance to the nearest member of its
+        owner's group, and that member (-1, and inf, for an empty group). The members
+        are triangles (``triangles_of`` maps members (k,) to (k, 3, 3)) or points
+        (``points_of`` maps them to (k, 3))."""
         count = (self.start[1:] - self.start[:-1])[query_owner]
         pair = np.repeat(np.arange(len(queries)), count)
         member = self.members[_ranges(self.start[query_owner], count)]
-        tri = triangles_of(member) if len(member) else np.zeros((0, 3, 3))
-        d2 = _distance_sq(rows(queries, pair), tri[:, 0], tri[:, 1], tri[:, 2])
+        if points_of is not None:
+            gap = rows(queries, pair) - points_of(member)
+            d2 = np.einsum("ij,ij->i", gap, gap)
+        else:
+            tri = triangles_of(member) if len(member) else np.zeros((0, 3, 3))
+            d2 = _distance_sq(rows(queries, pair), tri[:, 0], tri[:, 1], tri[:, 2])
         best = np.full(len(queries), np.inf)
         np.minimum.at(best, pair, d2)
         hit = np.flatnonzero(d2 == best[pair])

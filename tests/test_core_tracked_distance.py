@@ -114,3 +114,11 @@ def test_bad_bound_chains_are_named(bad, message):
     V, F = build.grid(6)
     with pytest.raises(ValueError, match=message):
         core.simplify_chain(V, F, [40, 20], max_error=bad)
+
+
+def test_a_triangle_with_collinear_corners_is_measured_as_its_edges():
+    # Found by hypothesis: rounding left the cross term of these corners a hair above 0.
+    p = np.array([[0.0, 1.0, 0.0]])
+    a, b, c = np.array([[1.0, -0.5323396571642227, 0.0]]), np.array([[1.0, 1.5, 0.0]]), np.array([[1.0, 0.015625, 0.0]])
+    bary, d2 = closest_on_triangles(p, a, b, c)
+    assert d2[0] == pytest.approx(1.0) and np.allclose(bary @ np.concatenate([a, b, c]), [[1.0, 1.0, 0.0]])
