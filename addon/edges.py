@@ -133,6 +133,37 @@ def face_regions(faces: np.ndarray, cut_edges: np.ndarray) -> np.ndarray:
     return core.topology.connected_labels(m, fa, fb)
 
 
+def chains_through(edges: np.ndarray, kept: np.ndarray) -> np.ndarray:
+    """Where chains of ``edges`` (k, 2) run between ``kept`` vertices ((n,) bool) through
+    vertices that are gone: (j, 2) pairs of kept vertices, each pair once.
+
+    A LOD keeps a source's sharp edge chain as an edge between two of its surviving
+    vertices after the ones between them collapsed; following each chain from a kept
+    vertex through the removed ones (of two chain edges each: a removed junction or end
+    ends the chain) finds the kept vertex at its other end. Pointer doubling over the
+    directed edges, so no loop runs per edge."""
+    e = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    if len(e) == 0:
+        return e
+    kept = np.asarray(kept, dtype=bool)
+    tail, head = np.concatenate([e[:, 0], e[:, 1]]), np.concatenate([e[:, 1], e[:, 0]])
+    h = len(tail)
+    degree = np.bincount(e.ravel(), minlength=len(kept))
+    through = ~kept[head] & (degree[head] == 2)  # the chain goes on past the head
+    # The two directed edges leaving each vertex, by tail: next(u->v) = v->w with w != u.
+    order = np.argsort(tail, kind="stable")
+    start = np.searchsorted(tail[order], head)
+    first = order[np.minimum(start, h - 1)]
+    second = order[np.minimum(start + 1, h - 1)]
+    nxt = np.where(head[first] != tail, first, second)
+    ptr = np.where(through, nxt, np.arange(h))
+    for _ in range(int(np.ceil(np.log2(h))) + 1):
+        ptr = ptr[ptr]
+    end = head[ptr]
+    ok = kept[tail] & kept[end] & ~through[ptr] & (end != tail)
+    return unique_edges(np.stack([tail[ok], end[ok]], axis=1))
+
+
 def mark_edges(mesh_edges: np.ndarray, wanted: np.ndarray, n_vertices: int) -> np.ndarray:
     """Boolean mask over ``mesh_edges`` (E, 2): True where the edge is in ``wanted``."""
     me = np.asarray(mesh_edges, dtype=np.int64).reshape(-1, 2)

@@ -270,6 +270,21 @@ def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dic
 # ----------------------------------------------------------------------------- compute
 
 
+def _sharp_chains(data: mesh_io.MeshData, result) -> np.ndarray:
+    """(k, 2) LOD edges (LOD vertex ids) along which a chain of the source's sharp edges ran."""
+    kept = np.zeros(len(data.vertices), dtype=bool)
+    kept[result.vertex_origin] = True
+    pairs = edge_util.chains_through(data.sharp_edges, kept)
+    if len(pairs) == 0:
+        return pairs
+    lod_vertex = np.full(len(data.vertices), -1, dtype=np.int64)
+    lod_vertex[result.vertex_origin] = np.arange(len(result.vertex_origin))
+    pairs = lod_vertex[pairs]
+    lod_edges = edge_util.unique_edges(np.concatenate([result.faces[:, [0, 1]], result.faces[:, [1, 2]],
+                                                       result.faces[:, [2, 0]]]))
+    return pairs[edge_util.mark_edges(pairs, lod_edges, len(result.vertices))]
+
+
 def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float = 0.0) -> mesh_io.MeshData:
     fo = result.face_origin
     va, ca = result.vertex_attributes, result.corner_attributes
@@ -296,6 +311,11 @@ def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float =
         sharp = edge_util.differing_edges(faces, smooth_group)
     else:
         sharp = np.empty((0, 2), np.int64)
+    if len(data.sharp_edges):
+        # And along the source's sharp edges, also those that end inside a smoothing
+        # region (a crease fading out), which the regions cannot say: where a chain of
+        # them ran between two vertices the LOD kept, and the LOD has that edge.
+        sharp = edge_util.unique_edges(np.concatenate([sharp, _sharp_chains(data, result)]))
     if hard_edge_angle > 0 and "normal" not in ca:
         sharp = edge_util.unique_edges(np.concatenate(
             [sharp.reshape(-1, 2), core.features.sharp_edges(result.vertices, faces, hard_edge_angle)]))

@@ -56,6 +56,14 @@ def test_vertices_split_apart_in_the_source_stay_hard_edges(res):
     assert not split["has_custom"] and split["facet_angle"] < 0.1, split
 
 
+def test_a_sharp_crease_that_ends_inside_its_smoothing_region_stays_sharp(res):
+    # Sharp edges along half a meridian of a smooth sphere (8 in the source): they bound no
+    # smoothing region, yet the LOD keeps them sharp where the chain survives.
+    dangling = res["dangling"]
+    assert dangling["source_sharp"] == 8, dangling
+    assert dangling["sharp"] >= 3 and dangling["on_meridian"] == dangling["sharp"], dangling
+
+
 def test_the_report_measures_the_normals_blender_gives_the_lod(res):
     # The report computes the LOD's normals before the mesh exists (carried custom
     # normals, or core.shading.corner_normals from smooth flags and sharp edges); Blender's

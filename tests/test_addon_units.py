@@ -49,6 +49,18 @@ def test_mark_edges():
     assert edges.mark_edges(mesh_edges, np.empty((0, 2)), 3).tolist() == [False] * 3
 
 
+def test_chains_through_removed_vertices_join_the_kept_ends():
+    # A path 0-1-2-3-4 with a branch 2-5, and a loop 6-7-8.
+    e = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [2, 5], [6, 7], [7, 8], [8, 6]])
+    kept = np.zeros(9, dtype=bool)
+    kept[[0, 2, 3, 4, 5, 6, 8]] = True
+    assert edges.chains_through(e, kept).tolist() == [[0, 2], [2, 3], [2, 5], [3, 4], [6, 8]]
+    # A removed junction ends the chains through it; a loop back to its start is no edge.
+    kept[[2, 8]] = False
+    assert edges.chains_through(e, kept).tolist() == [[3, 4]]
+    assert edges.chains_through(np.empty((0, 2)), kept).shape == (0, 2)
+
+
 def test_importance_scales_the_quadric_by_a_rising_factor():
     g = np.array([0.0, 0.5, 1.0])
     factors = [importance.controls(g, 1e-3, s)["quadric_scale"] for s in (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)]

@@ -60,6 +60,7 @@ def run() -> dict:
                       "mean_angle": float(angles.mean()), "largest_angle": float(angles.max())}
 
     result["deviation"] = normal_deviations()
+    result["dangling"] = dangling_sharp_chain()
 
     # Hard Edges: a smooth-shaded cube without sharp edges or custom normals.
     remove_all_objects()
@@ -84,6 +85,38 @@ def run() -> dict:
         on_cube_edge = (np.abs(np.abs(co) - 1.0) < 1e-5).sum(axis=2) >= 2  # two coordinates at +-1
         result[f"hard_{angle:g}"] = {"sharp": int(sharp.sum()), "on_cube_edges": int(on_cube_edge.all(axis=1).sum())}
     return result
+
+
+def dangling_sharp_chain() -> dict:
+    """A smooth sphere with sharp edges along half a meridian, from the pole to the
+    equator: a crease that ends inside its smoothing region. The LOD's sharp edges, and
+    how many lie on that meridian's half plane."""
+    remove_all_objects()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16)
+    ob = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    mesh = ob.data
+    co = np.empty(3 * len(mesh.vertices))
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    ends = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", ends)
+    ends = ends.reshape(-1, 2)
+    on_half = (np.abs(co[:, 1]) < 1e-6) & (co[:, 0] > -1e-6) & (co[:, 2] > -1e-6)
+    mesh.edges.foreach_set("use_edge_sharp", on_half[ends].all(axis=1))
+    source_sharp = int(on_half[ends].all(axis=1).sum())
+    lod_mesh = lod_of(ob, ratio=0.5).data
+    attr = lod_mesh.attributes.get("sharp_edge")
+    sharp = np.zeros(len(lod_mesh.edges), dtype=bool)
+    if attr is not None:
+        attr.data.foreach_get("value", sharp)
+    lod_ends = np.empty(2 * len(lod_mesh.edges), dtype=np.int64)
+    lod_mesh.edges.foreach_get("vertices", lod_ends)
+    lod_co = np.empty(3 * len(lod_mesh.vertices))
+    lod_mesh.vertices.foreach_get("co", lod_co)
+    lod_co = lod_co.reshape(-1, 3)[lod_ends.reshape(-1, 2)[sharp]]  # (k, 2, 3)
+    on_plane = (np.abs(lod_co[:, :, 1]) < 0.05).all(axis=1)  # the sphere's segments are 0.2 apart
+    return {"source_sharp": source_sharp, "sharp": int(sharp.sum()), "on_meridian": int(on_plane.sum())}
 
 
 def normal_deviations() -> dict:
