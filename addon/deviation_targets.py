@@ -156,16 +156,16 @@ class Found:
 
 
 def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
-                      exact: Callable[[object], float], source_triangles: int) -> list:
+                      exact: Callable[[object], float]) -> list:
     """A Found per requested deviation (increasing), from runs of the core with
     ``max_error`` bounds.
 
-    run(bounds): the core's levels for a non-decreasing list of bounds (one run, one
-    level each); exact(level): its two-sided Hausdorff distance as reported. Each run
-    rescales a level's bound by how its measurement missed the deviation (to
-    TRACKED_AIM of it): smaller where it came out beyond, larger where it came out
-    needlessly close (under TRACKED_CLOSE). The coarsest level measured within is kept;
-    a level with all of the source's triangles is no LOD and is not kept (its next
+    run(bounds): the core's levels (core.SimplifyResult) for a non-decreasing list of
+    bounds, one run, one level each; exact(level): its two-sided Hausdorff distance as
+    reported. Each run rescales a level's bound by how its measurement missed the
+    deviation (to TRACKED_AIM of it, by a factor in [0.5, 2]): smaller where it came out
+    beyond, larger where it came out needlessly close (under TRACKED_CLOSE). The
+    coarsest level measured within is kept; a level no collapse made is no LOD (its next
     bound is the whole deviation).
     """
     deviations = [float(d) for d in deviations]
@@ -175,7 +175,7 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
         bounds = list(np.maximum.accumulate([share * d for share, d in zip(shares, deviations)]))
         again = False
         for i, level in enumerate(run(bounds)):
-            if len(level.faces) >= source_triangles:  # the bound allowed no collapse at all
+            if level.stats.collapses == 0:  # the bound allowed no collapse at all
                 if shares[i] < 1.0:
                     shares[i], again = 1.0, True
                 continue
@@ -186,11 +186,18 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
             if hausdorff <= deviations[i]:
                 found[i] = Found(deviations[i], level, hausdorff)
             if not TRACKED_CLOSE <= hausdorff / deviations[i] <= 1.0:
-                shares[i] *= TRACKED_AIM * deviations[i] / max(hausdorff, 1e-12 * deviations[i])
+                # Relative to the bound this level was given (the chain may have raised it).
+                factor = TRACKED_AIM * deviations[i] / max(hausdorff, 1e-12 * deviations[i])
+                shares[i] = bounds[i] / deviations[i] * min(max(factor, 0.5), 2.0)
                 again = True
         if not again:
             break
-    # Each LOD coarser than the one before (a level no coarser is left out).
+    return coarser_each(found)
+
+
+def coarser_each(found: list) -> list:
+    """``found`` (Found or Choice-like: ``.level`` with ``.faces``, or None) with every
+    level that is no coarser than a kept one before it left out (level None)."""
     fewest = None
     for f in found:
         if f.level is None:

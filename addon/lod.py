@@ -379,9 +379,13 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
 
     data = lod_input.data
 
+    reached = [0.0]  # a search runs the core more than once: the bar never goes back
+
     def simplify(targets, **options):
-        return _simplify(lod_input, targets, lambda f: progress is None or progress(simplify_share * f) is not False,
-                         **options)
+        def step(f):
+            reached[0] = max(reached[0], simplify_share * f)
+            return progress is None or progress(reached[0]) is not False
+        return _simplify(lod_input, targets, step, **options)
 
     if lod_input.deviations is not None:
         results, requested, measured = _by_deviation(lod_input, simplify, report_progress, simplify_share)
@@ -445,6 +449,11 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 
+def _deviation_report(data, level) -> dict:
+    """measure.mesh_report of ``level`` against the source, as the report measures it."""
+    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, n_samples=DEVIATION_SAMPLES)
+
+
 def _measurers(data, levels: list, tick) -> tuple:
     """(quick(i), exact(i), reports): level i's two-sided Hausdorff distance to the source,
     estimated with fewer samples or measured as the report measures it (its full report
@@ -458,8 +467,7 @@ def _measurers(data, levels: list, tick) -> tuple:
 
     def exact(i):
         tick()
-        reports[i] = measure.mesh_report(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
-                                         n_samples=DEVIATION_SAMPLES)
+        reports[i] = _deviation_report(data, levels[i])
         return reports[i]["hausdorff"]
 
     return quick, exact, reports
@@ -490,12 +498,11 @@ def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share
 
     def exact(level):
         report_progress(simplify_share)
-        measured[id(level)] = measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
-                                                  n_samples=DEVIATION_SAMPLES)
+        measured[id(level)] = _deviation_report(data, level)
         return measured[id(level)]["hausdorff"]
 
     found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact, len(data.faces))
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share)
         for f in found:
@@ -503,12 +510,7 @@ def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share
             if other is not None and (f.level is None or len(other[0].faces) < len(f.level.faces)):
                 f.level = other[0]
                 measured[id(other[0])] = other[1]
-        fewest = None  # each LOD coarser than the one before
-        for f in found:
-            if f.level is not None and fewest is not None and len(f.level.faces) >= fewest:
-                f.level = None
-            elif f.level is not None:
-                fewest = len(f.level.faces)
+        deviation_targets.coarser_each(found)
     kept = [f for f in found if f.level is not None]
     for f in found:
         if f.level is None:
@@ -549,7 +551,7 @@ def _refine(lod_input: LodInput, within, within_report, beyond, deviation, repor
     counts = deviation_targets.between(len(within.faces), len(beyond.faces))
     if not counts:
         return within, within_report
-    levels = core.simplify_chain(data.vertices, data.faces, counts, lod_input.core_options)
+    levels = _simplify(lod_input, counts, lambda f: report_progress(simplify_share) is None)
     quick, exact, reports = _measurers(data, levels, lambda: report_progress(simplify_share))
     choice = deviation_targets.Search(quick, exact).coarsest_within(deviation, len(levels))
     if choice.level is None:

@@ -1,7 +1,7 @@
 """THE benchmark: core.simplify against Blender's Decimate and optional peers, speed and quality.
 
     .venv/bin/python bench/run.py [--meshes DIR] [--ratios 0.25 0.1] [--repeat N]
-                                  [--big] [--json FILE] [--write-docs] [--skip-core]
+                                  [--big | --scan] [--json FILE] [--write-docs] [--skip-core]
                                   [--peers KEY ... | --no-peers]
 
 For every mesh in DIR (default ../shared/meshes next to the checkout) and every ratio,
@@ -12,7 +12,8 @@ not installed is skipped with a note) on the same triangle arrays, then the same
 measurements of every output against the input (addon/measure.py). Prints a markdown
 table on stdout (progress goes to stderr) and the issue-3 acceptance lines (core vs
 Blender) at ratio 0.1. --big adds the ~2M-face mesh made by subdividing ogre twice, with
-the peak memory of a core run in a child process. --write-docs also draws the plots into
+the peak memory of a core run in a child process; --scan runs only the ~7.9M-face ogre
+(subdivided three times) at 10 % and 1 %, the same way. --write-docs also draws the plots into
 docs/images/. See bench/README.md for every column.
 """
 from __future__ import annotations
@@ -202,23 +203,29 @@ def core_peak_memory(vertices, faces, ratio, line_weight) -> dict:
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
-def bench_big(mesh_dir: Path, args) -> tuple:
-    """ogre subdivided twice (1 -> 16 faces) at BIG_RATIO: rows and the memory report."""
+def bench_big(mesh_dir: Path, args, subdivisions: int = 2, ratios=(BIG_RATIO,)) -> tuple:
+    """ogre subdivided ``subdivisions`` times (each 1 -> 4 faces) at ``ratios``: rows and the
+    memory report (of the first ratio; every core row gets its own peak_rss_mb)."""
     src = mesh_dir / BIG_SOURCE
     base = load_mesh(src)
-    v, f = subdivide_midpoint(*subdivide_midpoint(base.vertices, base.faces))
-    name = f"{src.stem} x16 (subdivided twice)"
+    v, f = base.vertices, base.faces
+    for _ in range(subdivisions):
+        v, f = subdivide_midpoint(v, f)
+    name = f"{src.stem} x{4 ** subdivisions} (subdivided {subdivisions} times)"
     log(f"big mesh: {name}, {len(f):,} faces")
-    rows = bench_mesh(name, v, f, [BIG_RATIO], args)
+    rows = bench_mesh(name, v, f, list(ratios), args)
     for row in rows:
         row["big"] = True
     memory = None
     if not args.skip_core:
-        log("  core.simplify peak memory in a child process ...")
-        memory = core_peak_memory(v, f, BIG_RATIO, args.line_weight)
-        for row in rows:
-            if row["method"] == "core":
-                row["peak_rss_mb"] = memory["peak_rss_mb"]
+        for ratio in ratios:
+            log(f"  core.simplify peak memory at {ratio:g} in a child process ...")
+            report = core_peak_memory(v, f, ratio, args.line_weight)
+            memory = memory or report
+            for row in rows:
+                if row["method"] == "core" and row["ratio"] == ratio:
+                    row["peak_rss_mb"] = report["peak_rss_mb"]
+                    log(f"  {ratio:g}: peak {report['peak_rss_mb']:.0f} MB, {report['seconds']:.1f} s in the child")
     return rows, memory
 
 
@@ -313,6 +320,27 @@ def plot_results(rows, directory: Path) -> list:
            [Line2D([], [], ls="", marker="o", color=color[m], label=m) for m in methods]
            + [Line2D([], [], ls="", marker=marker[m], color="gray", label=m) for m in meshes])
     return paths
+
+
+# Issue 21: the scan-sized mesh (--scan) at 10 % and 1 %.
+SCAN_TIME_LIMIT = 0.7  # x Decimate's time, in the same process
+SCAN_MEMORY_LIMIT_MB = 6 * 1024  # peak RSS of a process that loads the mesh and runs the core
+
+
+def scan_criteria(rows) -> list:
+    """Issue 21's lines for the --scan mesh: (passed, text) per ratio, time and memory."""
+    out = []
+    for c in rows:
+        if c["method"] != "core" or "error" in c:
+            continue
+        tag = f"{c['mesh']} @ {c['ratio']:.0%}"
+        out.append((c["time_ratio"] <= SCAN_TIME_LIMIT,
+                    f"{tag}: core time {c['seconds']:.1f} s = {c['time_ratio']:.2f}x Blender's (limit {SCAN_TIME_LIMIT}x)"))
+        if "peak_rss_mb" in c:
+            out.append((c["peak_rss_mb"] <= SCAN_MEMORY_LIMIT_MB,
+                        f"{tag}: core peak RSS {c['peak_rss_mb']:.0f} MB (limit {SCAN_MEMORY_LIMIT_MB} MB; "
+                        f"child process)"))
+    return out
 
 
 def criteria(rows, memory=None, big_name=None) -> list:
@@ -415,6 +443,9 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="+", metavar="NAME", help="only meshes whose file stem is listed")
     ap.add_argument("--big", action="store_true", help="also the ~2M-face subdivided ogre at 10%%")
     ap.add_argument("--big-only", action="store_true", help="only the ~2M-face mesh")
+    ap.add_argument("--scan", action="store_true",
+                    help="only the ~7.9M-face ogre (subdivided three times), at 10%% and 1%%, with the core's "
+                         "peak memory in a child process (issue 21; several minutes)")
     ap.add_argument("--skip-core", action="store_true", help="no core rows (a dry run of the rest)")
     ap.add_argument("--peers", nargs="+", choices=peers.PEER_KEYS, metavar="KEY",
                     help=f"only these optional peers ({', '.join(peers.PEER_KEYS)}; default: every installed one)")
@@ -443,7 +474,14 @@ def main(argv=None) -> int:
     env["peers"] = {p.method: peers.version_of(p) for p, _ in args.peer_modules}
 
     rows, skipped, memory, big_name = [], [], None, None
-    if not args.big_only:
+    if args.scan:
+        scan_rows, _ = bench_big(args.meshes, args, subdivisions=3, ratios=(0.1, 0.01))
+        rows += scan_rows
+        for row in scan_rows:
+            if "peak_rss_mb" in row:
+                log(f"{row['mesh']} @ {row['ratio']:g}: core {row['seconds']:.1f} s "
+                    f"({row.get('time_ratio', float('nan')):.2f}x Decimate), peak {row['peak_rss_mb']:.0f} MB")
+    elif not args.big_only:
         files = sorted(p for p in args.meshes.iterdir() if p.suffix.lower() in MESH_SUFFIXES)
         if args.only:
             files = [p for p in files if p.stem in args.only]
@@ -464,7 +502,7 @@ def main(argv=None) -> int:
     env["load_average_start"] = load_start
     env["load_average"] = [round(x, 2) for x in os.getloadavg()]
     table = markdown_table(rows)
-    checks = criteria(rows, memory, big_name)
+    checks = scan_criteria(rows) if args.scan else criteria(rows, memory, big_name)
     check_lines = [f"{'PASS' if ok else 'FAIL'} {text}" for ok, text in checks]
     notes = [f"skipped {name}: {why}" for name, why in skipped]
     notes += peer_notes

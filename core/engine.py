@@ -99,6 +99,8 @@ class State:
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
     key_scale: float = 1.0  # offsets are in input units; positions are normalised
     tracker: object = None  # core.tracked_distance, when max_error bounds the distance
+    far_rejected: object = None  # (k,) per edge: last rejected by the distance bound
+    collapses: int = 0  # edge collapses applied so far
     max_error: object = None  # that bound (normalised units), or None
     heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
@@ -140,6 +142,7 @@ def run(p: Problem) -> list:
     if p.max_error is not None:
         s.max_error = p.max_error[0]
         s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.input_faces)
+        s.far_rejected = np.zeros(len(conn.edges), dtype=bool)
     if p.shape_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
@@ -158,9 +161,10 @@ def run(p: Problem) -> list:
         if len(s.F) <= target + 0 or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
-            if stop == STOP_MAX_ERROR and level < len(p.targets) and p.max_error[level] > s.max_error:
-                _loosen(s, p.max_error[level])  # a chain of bounds: the next level goes on
-                stop = STOP_TARGET
+            if s.tracker is not None and level < len(p.targets) and p.max_error[level] > s.max_error:
+                _loosen(s, p.max_error[level])  # a chain of bounds: each level under its own
+                if stop == STOP_MAX_ERROR:
+                    stop = STOP_TARGET
             continue
         passes += 1
         outcome = _one_pass(s, passes, target, p.seed, p.preserve_seams)
@@ -174,11 +178,21 @@ def run(p: Problem) -> list:
 
 def _loosen(s: State, bound: float):
     """The next, larger distance bound of a chain: what the last one rejected gets a new
-    chance (and, as in _unstick, the last pass found no candidate: no cost to reuse)."""
+    chance (and, as in _unstick, the pass may have found no candidate: no cost to reuse)."""
     s.max_error = bound
-    s.tracker.rejected = False
+    s.far_rejected[:] = False
     s.rejected_pass[:] = 0
     s.cost_cache = None
+
+
+def _distance_blocks(s: State) -> bool:
+    """Whether an edge the distance bound rejected is still waiting (its neighbourhood
+    unchanged since): then the bound, not a quality rule, is what stops the run."""
+    far = np.flatnonzero(s.far_rejected)
+    if len(far) == 0:
+        return False
+    ends = s.conn.edges[far]
+    return bool(selection.still_rejected(s, far, ends[:, 0], ends[:, 1]).any())
 
 
 def _shape_keys(s: State, p: Problem, names, X, area):
@@ -202,8 +216,11 @@ def _unstick(s: State, p: Problem, target: int):
         # pass that found no candidate has nothing to reuse.
         s.rejected_pass[:] = 0
         s.cost_cache = None
+        if s.far_rejected is not None:
+            s.far_rejected[:] = False
         return None
-    if p.remove_small_components:
+    # A removed part is as far from the LOD as can be: not under a distance bound.
+    if p.remove_small_components and s.tracker is None:
         dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
         if dropped is not None:
             faces, parts = dropped
@@ -224,9 +241,10 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
     cand = selection.candidates(s, conn, kind, pass_no)
     s.heartbeat.beat()
     if len(cand.edge) == 0:
-        # What is left was rejected; if the distance bound was among the reasons, it is
-        # what stops the run (no quality rule is relaxed to go past it).
-        return STOP_MAX_ERROR if s.tracker is not None and s.tracker.rejected else STOP_TOPOLOGY
+        # What is left was rejected. Where the distance bound still holds an edge back, it
+        # is what stops the run: relaxing the quality rules would only buy slivers under
+        # the same bound. Otherwise the rules relax (_unstick) as for a face target.
+        return STOP_MAX_ERROR if s.tracker is not None and _distance_blocks(s) else STOP_TOPOLOGY
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
     cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
@@ -365,14 +383,18 @@ def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
 
 def _remember_rejections(s: State, conn, cand, rejected, pass_no):
     """Invalid collapses are skipped until their neighbourhood changes, so one bad edge
-    does not block its neighbourhood pass after pass."""
+    does not block its neighbourhood pass after pass; the distance bound's rejections
+    are also marked as such (_distance_blocks)."""
     if len(rejected) == 0:
         return
     s.rejected_pass[cand.edge[rejected]] = pass_no
+    if s.tracker is not None:
+        s.far_rejected[cand.edge[rejected]] = np.isin(cand.edge[rejected], s.tracker.rejected_edges)
 
 
 def _apply(s: State, conn, cand, chosen, pass_no):
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
+    s.collapses += len(chosen)
     t = edge_parameter(rows(s.V, keep), rows(s.V, remove), pos)
     if s.X.shape[1]:
         s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
@@ -401,10 +423,14 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         s.conn = topology.build(s.F, len(s.V))
         s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
         s.cost_cache = None
+        if s.far_rejected is not None:
+            s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
     else:
         s.conn, surviving_edges = carried
         s.rejected_pass = s.rejected_pass.compress(surviving_edges)
         s.cost_slot = s.cost_slot.compress(surviving_edges)
+        if s.far_rejected is not None:
+            s.far_rejected = s.far_rejected.compress(surviving_edges)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
@@ -421,6 +447,8 @@ def _drop_faces(s: State, alive):
     s.conn = topology.build(s.F, len(s.V))
     s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
     s.cost_cache = None
+    if s.far_rejected is not None:
+        s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
 
 
 def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:
@@ -455,6 +483,7 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         welded_vertices=p.welded,
         relaxation_step=s.guards.step,
         removed_components=s.removed_components,
+        collapses=s.collapses,
     )
     return SimplifyResult(
         vertices=vertices,

@@ -52,8 +52,8 @@ def closest_on_triangles(p, a, b, c) -> tuple:
     area) is measured as its three edges."""
     p, a, b, c = (np.asarray(x, dtype=np.float64) for x in (p, a, b, c))
     ab, ac, ap = b - a, c - a, p - a
-    d00, d01, d11 = _dot(ab, ab), _dot(ab, ac), _dot(ac, ac)
-    d20, d21 = _dot(ap, ab), _dot(ap, ac)
+    d00, d01, d11 = dot_rows(ab, ab), dot_rows(ab, ac), dot_rows(ac, ac)
+    d20, d21 = dot_rows(ap, ab), dot_rows(ap, ac)
     denom = d00 * d11 - d01 * d01
     # Nearly collinear corners (sin^2 of the angle at a below 1e-12): as three edges.
     flat = denom <= 1e-12 * np.maximum(d00 * d11, 1e-300)
@@ -63,7 +63,7 @@ def closest_on_triangles(p, a, b, c) -> tuple:
     u = 1.0 - v - w
     q = ap - v[:, None] * ab - w[:, None] * ac
     inside = (u >= 0) & (v >= 0) & (w >= 0) & ~flat
-    d2 = np.where(inside, _dot(q, q), np.inf)
+    d2 = np.where(inside, dot_rows(q, q), np.inf)
     bary = np.stack([u, v, w], axis=1)
     for beyond, i, j in ((w < 0, 0, 1), (u < 0, 1, 2), (v < 0, 2, 0)):
         at = np.flatnonzero((beyond | flat) & ~inside)
@@ -71,10 +71,10 @@ def closest_on_triangles(p, a, b, c) -> tuple:
             continue
         start, end = (a, b, c)[i][at], (a, b, c)[j][at]
         e = end - start
-        ee = _dot(e, e)
-        t = np.clip(_dot(p[at] - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
+        ee = dot_rows(e, e)
+        t = np.clip(dot_rows(p[at] - start, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
         r = p[at] - start - t[:, None] * e
-        dist = _dot(r, r)
+        dist = dot_rows(r, r)
         closer = dist < d2[at]
         rows_ = at[closer]
         d2[rows_] = dist[closer]
@@ -84,6 +84,6 @@ def closest_on_triangles(p, a, b, c) -> tuple:
     return bary, d2
 
 
-def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Row-wise dot products of (k, 3) arrays."""
+def dot_rows(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Row-wise dot products of (k, d) arrays."""
     return np.einsum("ij,ij->i", x, y)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any, Mapping, Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence, Union
 
 from .features import DEFAULT_FEATURE_ANGLE
 from .metrics import SLIVER_QUALITY
@@ -30,7 +30,10 @@ class Options:
         (source vertices and points inside its faces to the LOD, points of the new faces
         to the source: core.tracked_distance); the run stops at the target or there,
         whichever comes first. For simplify_chain, one non-decreasing bound per target
-        (each level goes on from the last under its own bound). The area-sampled
+        (each level goes on from the last under its own bound). Under a bound the
+        quality rules relax only while the bound is not what holds the run back, and no
+        part is removed (remove_small_components is ignored: a part removed is as far as
+        can be). The area-sampled
         Hausdorff distance (addon/measure.py) can come out somewhat above it, up to
         about 1.4x on the meshes measured: points between the tracked ones.
 
@@ -79,7 +82,7 @@ class Options:
         exported assets); None welds only exactly coincident ones, a negative value none.
     """
 
-    max_error: Optional[float] = None
+    max_error: Union[float, Sequence[float], None] = None
     line_weight: float = DEFAULT_LINE_WEIGHT
     line_weights: Any = None
     quadric_scale: Any = None

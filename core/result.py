@@ -42,6 +42,7 @@ class SimplifyStats:
     welded_vertices: int = 0  # coincident input vertices merged before simplifying
     relaxation_step: int = 0  # core.guards ladder step the run ended at (0: no rule relaxed)
     removed_components: int = 0  # whole parts removed (remove_small_components)
+    collapses: int = 0  # edge collapses applied, from the input to this level
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)

@@ -58,7 +58,7 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     # Two constrained ends may only slide along the seam that joins them.
     ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
     once_rejected = np.flatnonzero(ok & (s.rejected_pass > 0))
-    ok[once_rejected[_still_rejected(s, once_rejected, a[once_rejected], b[once_rejected])]] = False
+    ok[once_rejected[still_rejected(s, once_rejected, a[once_rejected], b[once_rejected])]] = False
     idx = np.flatnonzero(ok)
     keep, remove = keep[idx], remove[idx]
     k_keep, k_remove = k_keep[idx], k_remove[idx]
@@ -112,7 +112,7 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     return position, error / area
 
 
-def _still_rejected(s, edges, a, b) -> np.ndarray:
+def still_rejected(s, edges, a, b) -> np.ndarray:
     """Which of ``edges`` (ends a, b) were found invalid in an earlier pass and have not
     had their neighbourhood changed since."""
     last_change = np.maximum(s.touched[a], s.touched[b])

@@ -16,12 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import cross, face_frames
+from .geometry import cross, dot_rows, face_frames
 from .topology import build, connected_labels, next_corner
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->i", a, b)
 
 
 def corner_angles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -98,7 +94,7 @@ def angles_degrees(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     (a normal that is undefined) gives 90: neither agreeing nor facing away."""
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
-    angle = np.degrees(np.arctan2(np.linalg.norm(cross(a, b), axis=1), _dot(a, b)))
+    angle = np.degrees(np.arctan2(np.linalg.norm(cross(a, b), axis=1), dot_rows(a, b)))
     undefined = (np.linalg.norm(a, axis=1) == 0) | (np.linalg.norm(b, axis=1) == 0)
     angle[undefined] = 90.0
     return angle

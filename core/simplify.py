@@ -34,7 +34,9 @@ def simplify(
     Stopping: when no collapse passes the quality rules (normal turn, slivers, seams, UV
     area and flips), they relax step by step for the remaining collapses (core.guards),
     so every target the topology allows is reached; ``stats.stop_reason`` is
-    ``"topology_limit"`` when even the loosest step cannot go on.
+    ``"topology_limit"`` when even the loosest step cannot go on, and
+    ``"max_error_reached"`` when the distance bound holds collapses back (then no rule
+    relaxes).
 
     progress(fraction) is called after every pass and, in long ones, every quarter second
     between their steps (core.heartbeat); returning False raises SimplifyCancelled.

@@ -3,24 +3,26 @@
 ``max_error`` promises a distance an artist can check (issue 22), not a quadric's
 area-weighted RMS, so when it is given every collapse is also measured:
 
-- Source to LOD. Tracked points, every input vertex and points inside every input face,
-  each belong to one live face (named by the input face that face descends from, an id
-  that survives the engine's compaction). A collapse replaces the faces around its two
-  ends (the old fan) with the faces around the new vertex (the new fan), over the same
-  patch of surface; the old fan's points are measured against the new fan and move to
-  the closest new face. A point's distance to its face bounds its distance to the LOD
-  from above, so the largest of them bounds the source-to-LOD distance at the points.
-- LOD to source. The new vertex is measured against the input triangles under the old
-  fan (those whose centroids it holds, and those its faces descend from): an upper
-  bound on its distance to the source.
+- Source to LOD. Tracked points, every input vertex and the midpoints of every input
+  face's edges, each belong to one live face (named by the input face that face descends
+  from, an id that survives the engine's compaction), and carry an upper bound on their
+  distance to it. A collapse replaces the faces around its two ends (the old fan) with
+  the faces around the new vertex (the new fan), over the same patch of surface.
+- LOD to source. Every live face, and every vertex that moved, carries an upper bound
+  on its distance to the source.
 
-A collapse for which either exceeds the bound is rejected. Between the points the
-surface can stray a little further (the two-sided Hausdorff distance that
-addon/measure.py samples over the areas can exceed the tracked bound slightly); callers
-that must be sure measure the result.
+A face one of whose corners moves by m moves none of its points by more than m, so a
+collapse first adds m to the bounds it touches; only where a bound then passes
+CLOSE_ENOUGH of the limit is it measured: points against the new faces (and moved to
+the nearest), the new vertex and points of the new faces (centroid, new edges'
+midpoints) against the input triangles under the old fan. A collapse that takes any of
+them beyond the limit is rejected. The vertices' bounds are sure; the points are the
+tracked ones, and a face's bound is its sampled points', so the two-sided Hausdorff
+distance addon/measure.py samples over the areas can come out somewhat above the limit
+(up to 1.44x on the meshes measured); callers that must be sure measure the result.
 
-All in the engine's normalised units (unit bounding-box diagonal). Costs grow with the
-points a face holds, so this is for deviation targets, not for every run.
+All in the engine's normalised units (unit bounding-box diagonal). Every collapse is
+measured near the limit, so this is for deviation targets, not for every run.
 """
 from __future__ import annotations
 
@@ -34,8 +36,9 @@ from .geometry import closest_on_triangles, rows
 # points a face) the sampled distance came out as close to the bound (1.17-1.44x against
 # 1.19-1.41x on the Fox and homer at 0.05-1 %), a third faster.
 FACE_GRID = 2
-# A point within this share of the bound of the face its face becomes stays there;
-# farther ones look for the nearest new face.
+# Bounds under this share of the limit are trusted as they are; above it they are
+# measured (and a point farther than it from the face its face becomes looks for the
+# nearest new face).
 CLOSE_ENOUGH = 0.8
 
 
@@ -76,12 +79,12 @@ class TrackedDistance:
         self.source_face = np.concatenate([np.full(len(vertex_points), -1, dtype=np.int64), on_face])
         self.distance = np.zeros(len(self.points))
         self.input_faces = input_faces
-        # Per input face id: an upper bound on the distance from the live face that
-        # descends from it to the source (0 while it is the input face itself).
+        # Per input face id: a bound on the distance from the live face that descends from
+        # it to the source (0 while it is the input face itself; sampled once measured).
         self.face_far = np.zeros(input_faces)
         # Per vertex: an upper bound on its distance to the source (0 where it has not moved).
         self.vertex_far = np.zeros(len(vertices))
-        self.rejected = False  # has the bound rejected a collapse?
+        self.rejected_edges = np.zeros(0, dtype=np.int64)  # those the last ``within`` rejected
         self._pending = []
         self._index()
 
@@ -158,11 +161,14 @@ class TrackedDistance:
         face_far, lod_worst, vertex = self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face,
                                                           moved, moving, ring, limit, c)
         ok = (worst <= bound) & (lod_worst <= bound)
-        self.rejected |= bool((~ok[np.unique(collapse)]).any())
+        present = np.zeros(c, dtype=bool)
+        present[collapse] = True
+        self.rejected_edges = edges[present & ~ok]
         # Remember where the points of the accepted collapses go, and their faces' and new
         # vertices' bounds.
-        mine, rows_ok = ok[owner], np.flatnonzero(is_new & ok[collapse])
-        self._pending.append((edges[owner[mine]], point[mine], face_origin[fan_faces[new_face[mine]]], d[mine],
+        # (A dying face's bound goes with it: face_far is 0 on dying rows.)
+        mine, rows_ok = ok[owner], np.flatnonzero(ok[collapse])
+        self._pending.append((edges[owner[mine]], point[mine], ids[new_face[mine]], d[mine],
                               edges[collapse[rows_ok]], ids[rows_ok], face_far[rows_ok],
                               edges[ok], keep[ok], vertex[ok]))
         return ok
@@ -193,7 +199,7 @@ class TrackedDistance:
 
         vertex = np.full(c, np.inf)
         np.minimum.at(vertex, collapse, self.vertex_far[moving] + moved)
-        loose_vertex = np.flatnonzero(vertex > limit)
+        loose_vertex = np.unique(collapse[vertex[collapse] > limit])  # (collapses without rows are rejected)
         if len(loose_vertex):
             at = np.zeros(c, dtype=np.int64)
             at[collapse[::-1]] = np.arange(len(collapse))[::-1]  # a row of each collapse: its x
@@ -267,9 +273,6 @@ class TrackedDistance:
             self._pending = []
             self._index()
 
-    def forget(self):
-        self._pending = []
-
 
 def _next_faces(collapse, is_new, ring) -> tuple:
     """((k,), (k,)): for each fan row, the new faces its points are first measured
@@ -280,10 +283,10 @@ def _next_faces(collapse, is_new, ring) -> tuple:
     first = np.where(is_new, np.arange(k), -1)
     second = np.full(k, -1, dtype=np.int64)
     dying = np.flatnonzero(~is_new)
-    if len(dying) == 0:
+    alive = np.flatnonzero(is_new)
+    if len(dying) == 0 or len(alive) == 0:
         return first, second
     span = np.int64(ring.max()) + 1
-    alive = np.flatnonzero(is_new)
     key = np.concatenate([collapse[alive] * span + ring[alive, 0], collapse[alive] * span + ring[alive, 1]])
     row = np.concatenate([alive, alive])
     order = np.argsort(key, kind="stable")
@@ -299,8 +302,8 @@ def _next_faces(collapse, is_new, ring) -> tuple:
 
 
 class _Groups:
-    """Triangles grouped by an owner (a collapse, a fan row): ``members`` sorted by owner,
-    ``start`` (owners + 1,) their offsets."""
+    """Members (triangles or points) grouped by an owner (a collapse, a fan row):
+    ``members`` sorted by owner, ``start`` (owners + 1,) their offsets."""
 
     def __init__(self, owner_of_member: np.ndarray, owners: int, members=None):
         order = np.argsort(owner_of_member, kind="stable")

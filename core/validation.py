@@ -73,6 +73,8 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     if s.wedges is not None:
         ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
                                 guards.min_uv_area_kept, guards.uv_flip)
+    if s.tracker is not None:
+        s.tracker.rejected_edges = np.zeros(0, dtype=np.int64)
     if s.tracker is not None and ok.any():
         # Rule max_error: only for what passed the rest (the measuring is the dear part).
         # Each face of the old fans once: a face on the edge is gathered from both ends.

@@ -122,3 +122,24 @@ def test_a_triangle_with_collinear_corners_is_measured_as_its_edges():
     a, b, c = np.array([[1.0, -0.5323396571642227, 0.0]]), np.array([[1.0, 1.5, 0.0]]), np.array([[1.0, 0.015625, 0.0]])
     bary, d2 = closest_on_triangles(p, a, b, c)
     assert d2[0] == pytest.approx(1.0) and np.allclose(bary @ np.concatenate([a, b, c]), [[1.0, 1.0, 0.0]])
+
+
+def test_a_level_that_stops_at_its_face_target_hands_the_next_its_own_bound():
+    V, F = build.grid(24, height=build.bumps(0.12, 1.5))
+    loose_next = core.simplify_chain(V, F, [900, 0], max_error=[0.005, 0.03])
+    same_next = core.simplify_chain(V, F, [900, 0], max_error=[0.005, 0.005])
+    assert len(loose_next[0].faces) == len(same_next[0].faces) == 900
+    assert len(loose_next[1].faces) < 0.5 * len(same_next[1].faces)
+    assert 0.005 < loose_next[1].stats.max_error <= 0.03 * (1 + 1e-9)
+
+
+def test_under_a_bound_no_part_is_removed_and_collapses_are_counted():
+    V1, F1 = build.grid(16, height=build.bumps(0.12, 1.5))
+    V2, F2 = build.grid(3)
+    V = np.concatenate([V1, V2 + [3.0, 0.0, 0.0]])
+    F = np.concatenate([F1, F2 + len(V1)])
+    r = core.simplify(V, F, max_error=0.02, remove_small_components=True)
+    assert r.stats.removed_components == 0 and r.stats.max_error <= 0.02 * (1 + 1e-9)
+    assert _distance_to_mesh(V, r.vertices, r.faces).max() <= 0.02 * (1 + 1e-9)
+    assert r.stats.collapses > 0
+    assert core.simplify(V1, F1, max_error=0.0).stats.collapses == 0  # (a flat part could, at no distance)

@@ -1,5 +1,7 @@
 """addon/deviation_targets.py: the rung ladder and the bisection that picks, for each
 requested deviation, the coarsest measured level within it."""
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -74,8 +76,9 @@ def test_counts_between_two_rungs():
 
 
 class _FakeLevel:
-    def __init__(self, triangles):
+    def __init__(self, triangles, collapses=1):
         self.faces = range(triangles)  # only its length is used
+        self.stats = SimpleNamespace(collapses=collapses)
 
 
 def _fake_core(overshoot):
@@ -98,7 +101,7 @@ def test_tracked_bounds_end_within_and_close(overshoot):
     """Every level ends within its deviation, however far the sampled distance overshoots
     the tracked bound, and not needlessly below it."""
     run, runs, exact = _fake_core(overshoot)
-    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, exact, 10**9)
+    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, exact)
     assert all(f.level is not None and f.hausdorff <= f.deviation for f in found), found
     assert all(f.hausdorff >= 0.5 * f.deviation for f in found), found
     counts = [len(f.level.faces) for f in found]
@@ -118,20 +121,20 @@ def test_a_bound_that_allows_no_collapse_is_no_lod_and_is_loosened():
 
     def run(bounds):
         runs.append(list(bounds))
-        return [_FakeLevel(100 if b < 1.0 else 80) for b in bounds]
+        return [_FakeLevel(100, collapses=0) if b < 1.0 else _FakeLevel(80) for b in bounds]
 
-    found = dt.by_tracked_bounds([1.0], run, lambda level: 0.95, 100)
+    found = dt.by_tracked_bounds([1.0], run, lambda level: 0.95)
     assert runs[0] == [dt.TRACKED_SHARE] and runs[1] == [1.0]
     assert len(found[0].level.faces) == 80
 
 
 def test_tracked_bounds_leave_out_what_never_comes_within():
     run, runs, _ = _fake_core(1.0)
-    found = dt.by_tracked_bounds([1.0, 2.0], run, lambda level: 1e9, 10**9)
+    found = dt.by_tracked_bounds([1.0, 2.0], run, lambda level: 1e9)
     assert [f.level for f in found] == [None, None] and len(runs) == dt.TRACKED_RUNS
 
 
 def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
     """Two bounds that give the same level (a topology limit): the second is left out."""
-    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0, 100)
+    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
     assert found[0].level is not None and found[1].level is None
