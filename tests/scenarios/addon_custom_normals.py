@@ -14,6 +14,19 @@ def corner_normals(mesh) -> np.ndarray:
     return out.reshape(-1, 3)
 
 
+def sharp_edge_ends(mesh) -> np.ndarray:
+    """(k, 2, 3) the end positions of the mesh's edges marked sharp."""
+    attr = mesh.attributes.get("sharp_edge")
+    sharp = np.zeros(len(mesh.edges), dtype=bool)
+    if attr is not None:
+        attr.data.foreach_get("value", sharp)
+    ends = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", ends)
+    co = np.empty(3 * len(mesh.vertices))
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)[ends.reshape(-1, 2)[sharp]]
+
+
 def lod_of(ob, **settings):
     lod = extension_module("addon.lod")
     report = lod.generate_lods(bpy.context, ob, lod.LodSettings(levels=1, measure_deviation=False, **settings))
@@ -72,18 +85,9 @@ def run() -> dict:
     bpy.ops.object.modifier_apply(modifier=cube.modifiers[0].name)
     bpy.ops.object.shade_smooth()
     for angle in (0.0, 30.0):
-        lod_mesh = lod_of(cube, ratio=0.2, hard_edge_angle=angle).data
-        attr = lod_mesh.attributes.get("sharp_edge")
-        sharp = np.zeros(len(lod_mesh.edges), dtype=bool)
-        if attr is not None:
-            attr.data.foreach_get("value", sharp)
-        ends = np.empty(2 * len(lod_mesh.edges), dtype=np.int64)
-        lod_mesh.edges.foreach_get("vertices", ends)
-        co = np.empty(3 * len(lod_mesh.vertices))
-        lod_mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)[ends.reshape(-1, 2)[sharp]]  # (k, 2, 3)
+        co = sharp_edge_ends(lod_of(cube, ratio=0.2, hard_edge_angle=angle).data)
         on_cube_edge = (np.abs(np.abs(co) - 1.0) < 1e-5).sum(axis=2) >= 2  # two coordinates at +-1
-        result[f"hard_{angle:g}"] = {"sharp": int(sharp.sum()), "on_cube_edges": int(on_cube_edge.all(axis=1).sum())}
+        result[f"hard_{angle:g}"] = {"sharp": len(co), "on_cube_edges": int(on_cube_edge.all(axis=1).sum())}
     return result
 
 
@@ -105,18 +109,9 @@ def dangling_sharp_chain() -> dict:
     on_half = (np.abs(co[:, 1]) < 1e-6) & (co[:, 0] > -1e-6) & (co[:, 2] > -1e-6)
     mesh.edges.foreach_set("use_edge_sharp", on_half[ends].all(axis=1))
     source_sharp = int(on_half[ends].all(axis=1).sum())
-    lod_mesh = lod_of(ob, ratio=0.5).data
-    attr = lod_mesh.attributes.get("sharp_edge")
-    sharp = np.zeros(len(lod_mesh.edges), dtype=bool)
-    if attr is not None:
-        attr.data.foreach_get("value", sharp)
-    lod_ends = np.empty(2 * len(lod_mesh.edges), dtype=np.int64)
-    lod_mesh.edges.foreach_get("vertices", lod_ends)
-    lod_co = np.empty(3 * len(lod_mesh.vertices))
-    lod_mesh.vertices.foreach_get("co", lod_co)
-    lod_co = lod_co.reshape(-1, 3)[lod_ends.reshape(-1, 2)[sharp]]  # (k, 2, 3)
-    on_plane = (np.abs(lod_co[:, :, 1]) < 0.05).all(axis=1)  # the sphere's segments are 0.2 apart
-    return {"source_sharp": source_sharp, "sharp": int(sharp.sum()), "on_meridian": int(on_plane.sum())}
+    co = sharp_edge_ends(lod_of(ob, ratio=0.5).data)
+    on_plane = (np.abs(co[:, :, 1]) < 0.05).all(axis=1)  # the sphere's segments are 0.2 apart
+    return {"source_sharp": source_sharp, "sharp": len(co), "on_meridian": int(on_plane.sum())}
 
 
 def normal_deviations() -> dict:
