@@ -365,7 +365,13 @@ def preview(recording: dict) -> str:
 
 
 def greyed(recording: dict) -> list:
-    return [item["text"] or item.get("prop") for item, active, _e in walk(recording) if not active]
+    """The greyed-out widgets, by their text, or for a property drawn without one (text=""),
+    its label in the settings table."""
+    from addon.settings import SETTINGS
+
+    labels = {setting.name: setting.label for setting in SETTINGS}
+    return [item["text"] or labels.get(item.get("prop"), item.get("prop"))
+            for item, active, _e in walk(recording) if not active]
 
 
 def painted_share(F, w) -> float:
