@@ -6,16 +6,18 @@ First choice: the core's ``max_error``, a distance it tracks collapse by collaps
 (core.tracked_distance), one run for the whole chain of bounds (``by_tracked_bounds``).
 It checks points, so the area-sampled Hausdorff distance the report gives can come out
 a little above it: each level is given TRACKED_SHARE of its deviation, measured as the
-report measures it, and given less where it came out beyond.
+report measures it, and rerun with a rescaled bound where it came out beyond (or
+needlessly close).
 
-Fallback, for levels that still come out beyond: one progressive run snapshots a ladder
+Fallback, for levels no tracked run brings within: one progressive run snapshots a ladder
 of ever coarser levels (each ``LADDER_STEP`` times the triangles of the one before), and
 a bisection over the ladder estimates the two-sided Hausdorff distance (addon/measure.py
 with fewer samples) of a few of them, and the coarsest within the bound is then measured
 as the report measures it; should that say "beyond" after all, the next finer rung is.
 Distance grows close to monotonically as triangles go, so about log2(levels) estimates
-suffice; the kept level's reported number is within the bound by construction. Adjacent levels differ by about 1/LADDER_STEP in
-distance, so the level kept is seldom needlessly dense.
+suffice; the kept level's reported number is within the bound by construction. Adjacent
+levels differ by about 1/LADDER_STEP in distance, so the level kept is seldom needlessly
+dense.
 
 No bpy here: the measuring function is passed in (``measure.surface_deviation`` needs
 Blender's mathutils when called).
