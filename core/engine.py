@@ -180,9 +180,17 @@ def _loosen(s: State, bound: float):
     """The next, larger distance bound of a chain: what the last one rejected gets a new
     chance (and, as in _unstick, the pass may have found no candidate: no cost to reuse)."""
     s.max_error = bound
-    s.far_rejected[:] = False
-    s.rejected_pass[:] = 0
+    _forget_rejections(s)
+
+
+def _forget_rejections(s: State):
+    """Per-edge memory of the current connectivity, empty: every edge gets a new chance
+    (after a rule relaxed or the bound grew, or when the edges were rebuilt), and no
+    cached cost is reused."""
+    s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
     s.cost_cache = None
+    if s.tracker is not None:
+        s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
 
 
 def _distance_blocks(s: State) -> bool:
@@ -214,10 +222,7 @@ def _unstick(s: State, p: Problem, target: int):
         s.guards = s.ladder[s.guards.step + 1]
         # Edges rejected under the stricter rules get a new chance; the cost cache of a
         # pass that found no candidate has nothing to reuse.
-        s.rejected_pass[:] = 0
-        s.cost_cache = None
-        if s.far_rejected is not None:
-            s.far_rejected[:] = False
+        _forget_rejections(s)
         return None
     # A removed part is as far from the LOD as can be: not under a distance bound.
     if p.remove_small_components and s.tracker is None:
@@ -421,10 +426,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     carried = topology.after_collapses(conn, alive, remap, remove)
     if carried is None:  # only if the collapses were not independent: start afresh
         s.conn = topology.build(s.F, len(s.V))
-        s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
-        s.cost_cache = None
-        if s.far_rejected is not None:
-            s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
+        _forget_rejections(s)
     else:
         s.conn, surviving_edges = carried
         s.rejected_pass = s.rejected_pass.compress(surviving_edges)
@@ -445,10 +447,7 @@ def _drop_faces(s: State, alive):
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     s.conn = topology.build(s.F, len(s.V))
-    s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
-    s.cost_cache = None
-    if s.far_rejected is not None:
-        s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
+    _forget_rejections(s)
 
 
 def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:
