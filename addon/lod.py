@@ -394,6 +394,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         requested = [None] * len(results)
         measured = {}
     levels, reports = [], []
+    diagonal = measure.bbox_diagonal(data.vertices, data.faces) if lod_input.deviations is not None else None
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
         levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
@@ -410,7 +411,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         }
         if requested[k - 1] is not None:
             entry["requested_deviation"] = requested[k - 1]
-            entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / measure.bbox_diagonal(data.vertices, data.faces)
+            entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
         if measuring or requested[k - 1] is not None:
             rep = _level_report(data, levels[-1], measured.get(id(result)))
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
@@ -440,8 +441,7 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     deviation on its own (the search measured before the LOD's normals existed)."""
     normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
     if measured is None:
-        return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
-                                   n_samples=DEVIATION_SAMPLES, normals=normals)
+        return _deviation_report(data, level, normals)
     if normals is None or "normal_mean_degrees" in measured:
         return measured
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
@@ -449,9 +449,11 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 
-def _deviation_report(data, level) -> dict:
-    """measure.mesh_report of ``level`` against the source, as the report measures it."""
-    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, n_samples=DEVIATION_SAMPLES)
+def _deviation_report(data, level, normals=None) -> dict:
+    """measure.mesh_report of ``level`` against the source, as the report measures it
+    (``normals``: (source's, level's) corner normals, for the shading deviation too)."""
+    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, n_samples=DEVIATION_SAMPLES,
+                               normals=normals)
 
 
 def _measurers(data, levels: list, tick) -> tuple:
