@@ -451,28 +451,38 @@ def _drop_faces(s: State, alive):
 
 
 def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> SimplifyResult:
-    """Compact copy of the current mesh in input units, as one LOD level."""
+    """Compact copy of the current mesh in input units, as one LOD level, in the input's
+    order (core.locality may have renumbered the mesh for the run)."""
     used = np.zeros(len(s.V), dtype=bool)
     used[s.F.ravel()] = True
-    new_index = np.cumsum(used) - 1
+    kept = np.flatnonzero(used)
+    face_order = None
+    if p.renumbered:
+        kept = kept[np.argsort(p.vertex_origin[kept])]
+        face_order = np.argsort(s.face_origin)
+    new_index = np.empty(len(s.V), dtype=np.int64)
+    new_index[kept] = np.arange(len(kept))
     # Unmoved vertices (locked ones among them) come back exactly as given, not through
     # the normalisation round trip.
-    vertices = np.where(s.moved[used, None], s.V[used] * p.scale + p.center, p.input_positions[used])
-    faces = new_index[s.F]
+    vertices = np.where(s.moved[kept, None], s.V[kept] * p.scale + p.center, p.input_positions[kept])
+    faces = new_index[s.F if face_order is None else s.F[face_order]]
+    face_origin = s.face_origin.copy() if face_order is None else s.face_origin[face_order]
     vattrs = {}
     col = 0
     for name in names:
         k = p.vertex_attributes[name].shape[1]
-        vals = s.X[used, col:col + k].copy()
+        vals = s.X[kept, col:col + k].copy()
         col += k
         if name in p.normalize_attributes:
-            vals = _renormalise(vals, p.vertex_attributes[name][p.vertex_origin[used]])
+            vals = _renormalise(vals, p.vertex_attributes[name][kept])
         vattrs[name] = vals
     cattrs = s.wedges.corner_values() if s.wedges is not None else {}
+    if face_order is not None:
+        cattrs = {k: a[face_order] for k, a in cattrs.items()}
     stats = SimplifyStats(
         input_vertices=p.input_vertices,
         input_faces=p.input_faces,
-        output_vertices=int(used.sum()),
+        output_vertices=len(kept),
         output_faces=len(faces),
         target_faces=target,
         passes=passes,
@@ -487,8 +497,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
     return SimplifyResult(
         vertices=vertices,
         faces=faces,
-        face_origin=s.face_origin.copy(),
-        vertex_origin=p.vertex_origin[used],
+        face_origin=face_origin,
+        vertex_origin=p.vertex_origin[kept],
         stats=stats,
         vertex_attributes=vattrs,
         corner_attributes=cattrs,

@@ -15,6 +15,7 @@ import numpy as np
 from . import checks
 from .options import Options
 from .weld import weld_map
+from . import locality
 
 
 @dataclass
@@ -50,6 +51,7 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
+    renumbered: bool = False  # vertices and faces in core.locality's order, not the input's
 
 
 def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, progress=None) -> Problem:
@@ -153,7 +155,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         if quadric_scale is not None:
             quadric_scale = _max_by_group(quadric_scale, rep, n)
 
-    return Problem(
+    return locality.reorder(Problem(
         vertices=vn,
         input_positions=v,
         faces=fw[keep],
@@ -185,7 +187,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_vertices=n,
         input_faces=m,
         welded=welded,
-    )
+    ))
 
 
 def _max_by_group(values, rep, n):
