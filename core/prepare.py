@@ -135,18 +135,8 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     welded = int(np.count_nonzero(rep != np.arange(n)))
     fw = rep[f] if m else f
     keep = (fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 0] != fw[:, 2])
-    sorted_f = np.sort(fw, axis=1)
-    keys = (sorted_f[:, 0] * n + sorted_f[:, 1]) * n + sorted_f[:, 2] if n < 2_000_000 else None
-    if keys is not None and m:
-        _, first = np.unique(np.where(keep, keys, -1), return_index=True)
-        unique_mask = np.zeros(m, dtype=bool)
-        unique_mask[first] = True
-        keep &= unique_mask
-    elif m:
-        _, first = np.unique(sorted_f, axis=0, return_index=True)
-        unique_mask = np.zeros(m, dtype=bool)
-        unique_mask[first] = True
-        keep &= unique_mask
+    if m:
+        keep &= _first_copies(np.sort(fw, axis=1), n)
     face_origin = np.flatnonzero(keep)
     # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
@@ -188,6 +178,26 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_faces=m,
         welded=welded,
     ))
+
+
+def _first_copies(sorted_faces: np.ndarray, n: int) -> np.ndarray:
+    """(m,) bool: the first of the faces with each set of corners (rows sorted, (m, 3)).
+
+    Two stable integer sorts, by the first two corners and then by that pair's rank and
+    the third corner; a single key a*n^2 + b*n + c would overflow int64 from 2M vertices,
+    and np.unique(axis=0) sorts the rows as raw bytes, 25 times slower (6 s at 8M faces)."""
+    m = len(sorted_faces)
+    pair = sorted_faces[:, 0] * np.int64(n) + sorted_faces[:, 1]
+    by_pair = np.argsort(pair, kind="stable")
+    ordered = pair[by_pair]
+    rank = np.empty(m, dtype=np.int64)
+    rank[by_pair] = np.cumsum(np.concatenate([[True], ordered[1:] != ordered[:-1]])) - 1
+    triple = rank * np.int64(n) + sorted_faces[:, 2]  # < m * n: fits int64
+    by_triple = np.argsort(triple, kind="stable")
+    ordered = triple[by_triple]
+    first = np.zeros(m, dtype=bool)
+    first[by_triple[np.concatenate([[True], ordered[1:] != ordered[:-1]])]] = True
+    return first
 
 
 def _max_by_group(values, rep, n):

@@ -216,6 +216,19 @@ def test_degenerate_and_duplicate_faces_are_dropped():
     assert len(r1.faces) == m
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(*[st.integers(0, 6)] * 3), min_size=1, max_size=40), st.integers(7, 3_000_000))
+def test_the_first_copy_of_each_face_is_kept(rows, n):
+    # prepare._first_copies against np.unique's rows (first occurrence of each), for vertex
+    # counts past 2M, where a single int64 key of the three corners would overflow.
+    from core.prepare import _first_copies
+    faces = np.sort(np.array(rows, dtype=np.int64), axis=1) * (n // 7)
+    _, first = np.unique(faces, axis=0, return_index=True)
+    expected = np.zeros(len(faces), dtype=bool)
+    expected[first] = True
+    assert np.array_equal(_first_copies(faces, n), expected)
+
+
 def test_zero_area_input_faces_do_not_break_the_solver():
     # Collinear (distinct-index) slivers: zero-area faces inside a sheet.
     V, F = build.grid(8, alternate=False)
