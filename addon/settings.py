@@ -216,13 +216,13 @@ SETTINGS = (
     Setting("feature_angle", core.features.DEFAULT_FEATURE_ANGLE, "Feature Angle",
             "Degrees: edges whose faces' normals differ by more than this are kept "
             "like sharp edges, and corners where three of them meet (or where an open "
-            "border turns by half as much) stay in place. 80 keeps the right angles of "
+            "border turns sharply: half as much beyond its neighbours) stay in place. 80 keeps the right angles of "
             "hard-surface parts; below about 60 organic meshes suffer. 0 turns it off",
             low=0.0, high=180.0, high_open=True, unit=" degrees (0 = off)",
             blender={"max": 179.0, "precision": 1}, flag="--feature-angle",
             cli={"metavar": "DEG", "help": "edges whose faces' normals differ by more than DEG degrees are kept "
-                                           "like sharp edges, and their corners (and turns of open borders by "
-                                           "half as much) stay in place (default {default:g}; 0 = off)"},
+                                           "like sharp edges, and their corners (and sharp turns of open "
+                                           "borders) stay in place (default {default:g}; 0 = off)"},
             core="feature_angle (0 becomes None: off)"),
     Setting("remove_small_components", False, "Remove Small Parts",
             "When the target needs it, delete the smallest separate parts (bolts, "

@@ -273,7 +273,7 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
 def _features(p: Problem, conn, face_normals, face_areas) -> tuple:
     """The given feature edges plus the creases sharper than ``feature_angle`` (each
     edge once, the given weight winning), their weights, and the (n,) corners: where
-    three or more of them meet, and where an open boundary turns by more than half the angle."""
+    three or more of them meet, and where an open boundary has a corner (features.boundary_corners)."""
     edges, weights = p.feature_edges, p.feature_edge_weights
     if p.feature_angle:
         crease = conn.edges[features.crease_edges(face_normals, conn, p.feature_angle)]
@@ -284,7 +284,7 @@ def _features(p: Problem, conn, face_normals, face_areas) -> tuple:
         edges = np.concatenate([edges.reshape(-1, 2), crease[new]])
         weights = np.concatenate([weights, np.full(int(new.sum()), p.feature_weight)])
         corners = features.corners(edges, n) | features.boundary_corners(
-            p.vertices, p.faces, face_normals, face_areas, conn, p.feature_angle * features.BORDER_ANGLE_SHARE)
+            p.vertices, p.faces, face_normals, face_areas, conn, p.feature_angle)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
 

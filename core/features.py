@@ -31,7 +31,6 @@ DEFAULT_FEATURE_ANGLE = 80.0
 # quality unchanged; the ogre's 200 border edges have none.
 BORDER_ANGLE_SHARE = 0.5
 
-
 def crease_edges(face_normals: np.ndarray, conn: Connectivity, angle_degrees: float) -> np.ndarray:
     """(k,) indices into conn.edges of the interior manifold edges whose two faces' unit
     normals (m, 3) differ by more than ``angle_degrees`` (the dihedral angle's supplement,
@@ -52,13 +51,19 @@ def corners(edges: np.ndarray, n_vertices: int) -> np.ndarray:
 
 
 def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.ndarray, face_areas: np.ndarray,
-                     conn: Connectivity, angle_degrees: float) -> np.ndarray:
-    """(n,) bool: open-boundary vertices where the boundary turns by more than
-    ``angle_degrees`` within the surface (the corners of a flat logo or a cut-out panel),
-    and those where more than two boundary edges meet. The turn is measured in the
-    vertex's tangent plane (area-weighted normal, from the faces' unit normals and
-    areas), so a border that only wobbles out of the surface (noise on a scanned sheet)
-    has no corners."""
+                     conn: Connectivity, feature_angle: float) -> np.ndarray:
+    """(n,) bool: open-boundary vertices where the outline has a corner (a flat logo's, a
+    cut-out panel's), and those where more than two boundary edges meet.
+
+    A corner is a turn within the surface by the feature angle or more, or by
+    BORDER_ANGLE_SHARE of it beyond what either border neighbour turns the same way: a
+    bend spread over consecutive vertices is a rounded corner, which the boundary planes
+    keep in shape, while locking the vertices of it that happen to turn most keeps some
+    and lets the rest go (the 576 rounded patches of a subdivided triangle soup lost 40 %
+    of their area at 10 %, against 16 % with no border corners).
+    The turn is measured in the vertex's tangent plane (area-weighted normal, from the
+    faces' unit normals and areas), so a border that only wobbles out of the surface
+    (noise on a scanned sheet) has no corners."""
     n = len(vertices)
     border = conn.edges[conn.edge_faces == 1]
     corner = np.zeros(n, dtype=bool)
@@ -73,15 +78,24 @@ def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.n
     first = np.flatnonzero(np.r_[True, ends[1:] != ends[:-1]])
     pairs = first[count[ends[first]] == 2]  # rows of the first of each two-edge vertex
     v = ends[pairs]
-    into = vertices[v] - vertices[others[pairs]]
-    out = vertices[others[pairs + 1]] - vertices[v]
+    before, after = others[pairs], others[pairs + 1]
+    into = vertices[v] - vertices[before]
+    out = vertices[after] - vertices[v]
     normal = scatter_sum(faces, face_normals * face_areas[:, None], n)[v]
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
     into -= normal * np.einsum("ij,ij->i", into, normal)[:, None]
     out -= normal * np.einsum("ij,ij->i", out, normal)[:, None]
     length = np.linalg.norm(into, axis=1) * np.linalg.norm(out, axis=1)
     cosine = np.einsum("ij,ij->i", into, out) / np.maximum(length, 1e-300)
-    corner[v[cosine < np.cos(np.radians(angle_degrees))]] = True
+    # Signed turn (degrees): positive one way round the surface normal, negative the other,
+    # so the inner corners of a star (turning against its tips) stand on their own.
+    side = np.sign(np.einsum("ij,ij->i", np.cross(into, out), normal))
+    angle = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+    turn = np.zeros(n)
+    turn[v] = side * angle
+    # What the neighbours turn the same way is part of the same bend, not this corner's.
+    along = np.maximum(np.maximum(turn[before] * side, turn[after] * side), 0.0)
+    corner[v[(angle >= feature_angle) | (angle - along >= feature_angle * BORDER_ANGLE_SHARE)]] = True
     return corner
 
 

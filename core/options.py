@@ -53,7 +53,8 @@ class Options:
         whose faces' normals differ by more than this are creases, kept softly like
         ``feature_edges`` (weighted by ``feature_weight``); vertices where three or more
         creases or feature edges meet, and open-boundary vertices where the boundary
-        turns by more than half the angle, are corners and stay put (unless the target
+        turns by the angle, or by half of it beyond its neighbours' turns the same way
+        (core.features.boundary_corners), are corners and stay put (unless the target
         cannot be reached otherwise).
       min_quality: in [0, 1], the triangle quality (core.metrics.triangle_quality; 1 for
         equilateral) below which no collapse may turn a face (SLIVER_QUALITY = 0.3 by

@@ -280,6 +280,49 @@ def test_star_logo_keeps_tips_and_inner_corners_with_the_defaults(ratio):
     assert not all(kept_exactly(core.simplify(V, F, ratio=ratio, feature_angle=0)))
 
 
+def _rounded_patches(level=1, cuts=2):
+    """A soup of small flat patches, one per icosphere triangle, each a triangle with
+    rounded corners (Chaikin corner cutting, ``cuts`` times: 3 * 2**cuts border vertices,
+    the turn at each corner spread over neighbouring vertices), filled with a ring and a
+    fan to its centre: what a triangle-split mesh becomes under Subdivision Surface."""
+    sv, sf = build.icosphere(level)
+    V, F = [], []
+    for tri in sv[sf]:
+        outline = tri
+        for _ in range(cuts):
+            nxt = np.roll(outline, -1, axis=0)
+            outline = np.stack([0.75 * outline + 0.25 * nxt, 0.25 * outline + 0.75 * nxt], axis=1).reshape(-1, 3)
+        centre = tri.mean(axis=0)
+        k = len(outline)
+        base = sum(len(v) for v in V)
+        V.append(np.concatenate([outline, 0.5 * (outline + centre), centre[None]]))
+        i = np.arange(k)
+        j = (i + 1) % k
+        F.append(base + np.concatenate([np.c_[i, j, k + j], np.c_[i, k + j, k + i], np.c_[k + i, k + j, np.full(k, 2 * k)]]))
+    return np.concatenate(V), np.concatenate(F)
+
+
+def test_rounded_border_corners_do_not_lock_part_of_a_bend():
+    # Each patch's border turns by 60 degrees at each of its six vertices: three corners
+    # rounded by one cut each. Locking every vertex that turns by half the feature angle
+    # locked all six, so no patch went below four faces until the last relaxation step
+    # freed every rule at once.
+    V, F = _rounded_patches(cuts=1)
+    patches = len(F) // 18
+    target = 3 * patches
+    with_corners = core.simplify(V, F, target_faces=target)
+    without = core.simplify(V, F, target_faces=target, feature_angle=0)
+    assert len(with_corners.faces) == len(without.faces) == target
+
+    def outline_distance(r):
+        ours, theirs = check.boundary_edges(r.faces), check.boundary_edges(F)
+        return max(check.distance_to_polyline(V[np.unique(theirs)], r.vertices, ours).mean(),
+                   check.distance_to_polyline(r.vertices[np.unique(ours)], V, theirs).mean())
+
+    assert with_corners.stats.relaxation_step == without.stats.relaxation_step
+    assert outline_distance(with_corners) <= 1.05 * outline_distance(without)
+
+
 def test_feature_angle_keeps_creases_closer_than_without():
     V, F = _bevel_box(12)
     on_edge = np.sum(np.isclose(np.abs(V), 1.0), axis=1) >= 2
