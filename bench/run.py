@@ -13,7 +13,8 @@ measurements of every output against the input (addon/measure.py). Prints a mark
 table on stdout (progress goes to stderr) and the issue-3 acceptance lines (core vs
 Blender) at ratio 0.1. --big adds the ~2M-face mesh made by subdividing ogre twice, with
 the peak memory of a core run in a child process; --scan runs only the ~7.9M-face ogre
-(subdivided three times) at 10 % and 1 %, the same way. --write-docs also draws the plots into
+(subdivided three times) and a 5.2M-face scan-like mesh (synthetic_meshes.scan_like: noise,
+random numbering) at 10 % and 1 %, the same way (--only ogre / scan-like picks one). --write-docs also draws the plots into
 docs/images/. See bench/README.md for every column.
 """
 from __future__ import annotations
@@ -38,6 +39,7 @@ import numpy as np
 import peers
 from addon.measure import DEFAULT_SAMPLES, mesh_report
 from blender_reference import decimate, load_mesh
+import synthetic_meshes
 from synthetic_meshes import subdivide_midpoint
 from core import DEFAULT_LINE_WEIGHT, SLIVER_QUALITY
 from core.weld import weld_map
@@ -229,6 +231,22 @@ def bench_big(mesh_dir: Path, args, subdivisions: int = 2, ratios=(BIG_RATIO,)) 
     return rows, memory
 
 
+def bench_scan_like(args) -> list:
+    """synthetic_meshes.scan_like at SCAN_RATIOS, each core row with its peak memory."""
+    v, f = synthetic_meshes.scan_like()
+    name = f"{SCAN_LIKE} (noisy bumpy sphere, random order)"
+    log(f"scan-like mesh: {name}, {len(f):,} faces")
+    rows = bench_mesh(name, v, f, list(SCAN_RATIOS), args)
+    if not args.skip_core:
+        for ratio in SCAN_RATIOS:
+            log(f"  core.simplify peak memory at {ratio:g} in a child process ...")
+            report = core_peak_memory(v, f, ratio, args.line_weight)
+            for row in rows:
+                if row["method"] == "core" and row["ratio"] == ratio:
+                    row["peak_rss_mb"] = report["peak_rss_mb"]
+    return rows
+
+
 # ---------------------------------------------------------------- report
 
 def _fmt(value, spec):
@@ -322,7 +340,9 @@ def plot_results(rows, directory: Path) -> list:
     return paths
 
 
-# Issue 21: the scan-sized mesh (--scan) at 10 % and 1 %.
+# Issue 21: the scan-sized meshes (--scan) at 10 % and 1 %.
+SCAN_RATIOS = (0.1, 0.01)
+SCAN_LIKE = "scan-like"
 SCAN_TIME_LIMIT = 0.7  # x Decimate's time, in the same process
 SCAN_MEMORY_LIMIT_MB = 6 * 1024  # peak RSS of a process that loads the mesh and runs the core
 
@@ -444,8 +464,9 @@ def main(argv=None) -> int:
     ap.add_argument("--big", action="store_true", help="also the ~2M-face subdivided ogre at 10%%")
     ap.add_argument("--big-only", action="store_true", help="only the ~2M-face mesh")
     ap.add_argument("--scan", action="store_true",
-                    help="only the ~7.9M-face ogre (subdivided three times), at 10%% and 1%%, with the core's "
-                         "peak memory in a child process (issue 21; several minutes)")
+                    help="only the scan-sized meshes: the ~7.9M-face ogre (subdivided three times) and a "
+                         "5.2M-face scan-like one, at 10%% and 1%%, with the core's peak memory in a child "
+                         "process (issue 21; about 35 minutes; --only ogre or scan-like for one)")
     ap.add_argument("--skip-core", action="store_true", help="no core rows (a dry run of the rest)")
     ap.add_argument("--peers", nargs="+", choices=peers.PEER_KEYS, metavar="KEY",
                     help=f"only these optional peers ({', '.join(peers.PEER_KEYS)}; default: every installed one)")
@@ -475,7 +496,11 @@ def main(argv=None) -> int:
 
     rows, skipped, memory, big_name = [], [], None, None
     if args.scan:
-        scan_rows, _ = bench_big(args.meshes, args, subdivisions=3, ratios=(0.1, 0.01))
+        scan_rows = []
+        if not args.only or "ogre" in args.only:
+            scan_rows += bench_big(args.meshes, args, subdivisions=3, ratios=SCAN_RATIOS)[0]
+        if not args.only or SCAN_LIKE in args.only:
+            scan_rows += bench_scan_like(args)
         rows += scan_rows
         for row in scan_rows:
             if "peak_rss_mb" in row:

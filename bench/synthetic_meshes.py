@@ -88,6 +88,20 @@ def bumpy_sphere(subdivisions: int = 5, amplitude: float = 0.08):
     return V * r[:, None], F
 
 
+def scan_like(subdivisions: int = 9, noise: float = 0.0005, seed: int = 0):
+    """A stand-in for a photogrammetry scan: ``bumpy_sphere`` with fine noise along the
+    normal (``noise`` of the radius, what a scanner adds) and its vertices and faces in a
+    random order (scans come out of reconstruction in no useful order, so nothing of the
+    input's numbering helps the cache). 9 subdivisions: 5,242,880 faces."""
+    V, F = bumpy_sphere(subdivisions)
+    rng = np.random.default_rng(seed)
+    V = V * (1.0 + noise * rng.standard_normal(len(V)))[:, None]
+    order = rng.permutation(len(V))
+    new_id = np.empty(len(V), dtype=np.int64)
+    new_id[order] = np.arange(len(V))
+    return V[order], new_id[F][rng.permutation(len(F))]
+
+
 def uv_sphere(rings: int):
     """A closed unit UV sphere, faces wound outward: ``rings`` bands from pole to pole,
     ``2 * rings`` segments. Returns (vertices (n, 3) float64, faces (4 * rings * (rings - 1), 3) int64)."""
