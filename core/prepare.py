@@ -187,6 +187,7 @@ def _first_copies(sorted_faces: np.ndarray, n: int) -> np.ndarray:
     the third corner; a single key a*n^2 + b*n + c would overflow int64 from 2M vertices,
     and np.unique(axis=0) sorts the rows as raw bytes, 25 times slower (6 s at 8M faces)."""
     m = len(sorted_faces)
+    sorted_faces = sorted_faces.astype(np.int64, copy=False)  # NumPy 1.x keeps int32 * np.int64(n) in int32
     pair = sorted_faces[:, 0] * np.int64(n) + sorted_faces[:, 1]
     by_pair = np.argsort(pair, kind="stable")
     ordered = pair[by_pair]

@@ -280,19 +280,23 @@ def test_star_logo_keeps_tips_and_inner_corners_with_the_defaults(ratio):
     assert not all(kept_exactly(core.simplify(V, F, ratio=ratio, feature_angle=0)))
 
 
-def _rounded_patches(level=1, cuts=2):
-    """A soup of small flat patches, one per icosphere triangle, each a triangle with
-    rounded corners (Chaikin corner cutting, ``cuts`` times: 3 * 2**cuts border vertices,
-    the turn at each corner spread over neighbouring vertices), filled with a ring and a
-    fan to its centre: what a triangle-split mesh becomes under Subdivision Surface."""
+def _bevelled_patches(level=1, cut=0.25):
+    """A soup of small flat patches, one per icosphere triangle, each the triangle with its
+    corners bevelled (cut ``cut`` of the way along both edges, so each corner's turn of 120
+    degrees is spread over two vertices of 60) and a vertex midway along each remaining
+    side (no turn), shrunk a little so no two patches share a point; filled with a ring
+    and a fan to its centre. Like the rounded patches a triangle-split mesh becomes under
+    Subdivision Surface. 9 border vertices, 27 faces."""
     sv, sf = build.icosphere(level)
     V, F = [], []
     for tri in sv[sf]:
-        outline = tri
-        for _ in range(cuts):
-            nxt = np.roll(outline, -1, axis=0)
-            outline = np.stack([0.75 * outline + 0.25 * nxt, 0.25 * outline + 0.75 * nxt], axis=1).reshape(-1, 3)
+        outline = []
+        for k in range(3):
+            here, prev, nxt = tri[k], tri[k - 1], tri[(k + 1) % 3]
+            a, b = here + cut * (prev - here), here + cut * (nxt - here)
+            outline += [a, b, 0.5 * (b + nxt + cut * (here - nxt))]
         centre = tri.mean(axis=0)
+        outline = centre + 0.95 * (np.array(outline) - centre)  # apart from the neighbours' patches
         k = len(outline)
         base = sum(len(v) for v in V)
         V.append(np.concatenate([outline, 0.5 * (outline + centre), centre[None]]))
@@ -302,13 +306,21 @@ def _rounded_patches(level=1, cuts=2):
     return np.concatenate(V), np.concatenate(F)
 
 
-def test_rounded_border_corners_do_not_lock_part_of_a_bend():
-    # Each patch's border turns by 60 degrees at each of its six vertices: three corners
-    # rounded by one cut each. Locking every vertex that turns by half the feature angle
-    # locked all six, so no patch went below four faces until the last relaxation step
-    # freed every rule at once.
-    V, F = _rounded_patches(cuts=1)
-    patches = len(F) // 18
+@pytest.mark.parametrize("shuffled", [False, True])
+def test_rounded_border_corners_do_not_lock_part_of_a_bend(shuffled):
+    # Each patch's border turns by 60 degrees at two vertices for each of its three
+    # corners. Locking every vertex that turns by half the feature angle locked all six,
+    # so no patch went below five faces until the last relaxation step freed every rule
+    # at once. Which way a border turns must not depend on how its vertices are numbered
+    # (shuffled).
+    V, F = _bevelled_patches()
+    if shuffled:
+        rng = np.random.default_rng(7)
+        order = rng.permutation(len(V))
+        new_id = np.empty(len(V), dtype=np.int64)
+        new_id[order] = np.arange(len(V))
+        V, F = V[order], new_id[F]
+    patches = len(F) // 27
     target = 3 * patches
     with_corners = core.simplify(V, F, target_faces=target)
     without = core.simplify(V, F, target_faces=target, feature_angle=0)
@@ -321,6 +333,52 @@ def test_rounded_border_corners_do_not_lock_part_of_a_bend():
 
     assert with_corners.stats.relaxation_step == without.stats.relaxation_step
     assert outline_distance(with_corners) <= 1.05 * outline_distance(without)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_border_corners_do_not_depend_on_the_numbering(seed):
+    from core import features, topology
+    from core.geometry import face_frames
+
+    def corner_points(V, F):
+        conn = topology.build(F, len(V))
+        normals, areas = face_frames(V, F)
+        corner = features.boundary_corners(V, F, normals, areas, conn, 80.0)
+        return {tuple(p) for p in np.round(V[corner], 9)}
+
+    for V, F in (_bevelled_patches(), _polygon_plate(6)[:2], _star()[:2]):
+        order = np.random.default_rng(seed).permutation(len(V))
+        new_id = np.empty(len(V), dtype=np.int64)
+        new_id[order] = np.arange(len(V))
+        assert corner_points(V[order], new_id[F]) == corner_points(V, F)
+
+
+def _polygon_plate(sides=6, rings=8):
+    """A flat regular polygon whose outline has only its ``sides`` corners (every border
+    vertex turns the same way, by 360/sides degrees), filled by rings shrinking to the
+    centre."""
+    angle = 2 * np.pi * np.arange(sides) / sides
+    outline = np.c_[np.cos(angle), np.sin(angle), np.zeros(sides)]
+    V = np.concatenate([np.zeros((1, 3))] + [outline * r / rings for r in range(1, rings + 1)])
+    i = np.arange(sides)
+    j = (i + 1) % sides
+    F = [np.c_[np.zeros(sides, int), 1 + i, 1 + j]]
+    for r in range(1, rings):
+        a, b = 1 + (r - 1) * sides, 1 + r * sides
+        F += [np.c_[a + i, b + i, b + j], np.c_[a + i, b + j, a + j]]
+    return V, np.concatenate(F).astype(np.int64), 1 + (rings - 1) * sides + i
+
+
+@pytest.mark.parametrize("sides", [5, 6, 8])
+def test_a_polygon_outline_keeps_every_corner(sides):
+    # Every border vertex turns the same way by 45-72 degrees: a polygon, not a rounded
+    # bend, so all are corners and a LOD keeps them exactly.
+    V, F, outline = _polygon_plate(sides)
+    r = core.simplify(V, F, target_faces=sides)
+    assert r.stats.stop_reason == "target_reached"
+    for i in outline:
+        row = np.flatnonzero(r.vertex_origin == i)
+        assert len(row) == 1 and np.array_equal(r.vertices[row[0]], V[i]), f"corner {i} moved or went"
 
 
 def test_feature_angle_keeps_creases_closer_than_without():
