@@ -241,6 +241,7 @@ def bench_scan_like(args) -> list:
         for ratio in SCAN_RATIOS:
             log(f"  core.simplify peak memory at {ratio:g} in a child process ...")
             report = core_peak_memory(v, f, ratio, args.line_weight)
+            log(f"  {ratio:g}: peak {report['peak_rss_mb']:.0f} MB, {report['seconds']:.1f} s in the child")
             for row in rows:
                 if row["method"] == "core" and row["ratio"] == ratio:
                     row["peak_rss_mb"] = report["peak_rss_mb"]
@@ -496,6 +497,9 @@ def main(argv=None) -> int:
 
     rows, skipped, memory, big_name = [], [], None, None
     if args.scan:
+        unknown = sorted(set(args.only or ()) - {"ogre", SCAN_LIKE})
+        if unknown:
+            ap.error(f"--scan --only takes ogre and/or {SCAN_LIKE}, not {', '.join(unknown)}")
         scan_rows = []
         if not args.only or "ogre" in args.only:
             scan_rows += bench_big(args.meshes, args, subdivisions=3, ratios=SCAN_RATIOS)[0]

@@ -54,6 +54,65 @@ def test_no_collapse_gives_the_input_back_in_its_own_order(always_renumber):
     assert np.array_equal(r.corner_attributes["uv"], uv)
 
 
+def test_every_per_vertex_and_per_face_input_follows_the_renumbering(monkeypatch):
+    # Welded copies, a duplicate face, locks, weights, scales, feature edges, shape keys,
+    # skin weights and UVs: with no collapse to make, a renumbered run must give exactly
+    # what the input's own numbering gives.
+    V, F = _shuffled(*build.torus(24, 12), seed=8)
+    n0 = len(V)
+    split = F[0].copy()
+    V = np.concatenate([V, V[split]])  # one face on split copies of its corners, welded back
+    F = np.concatenate([[n0 + np.arange(3)], F[1:], F[3:4]])  # and a duplicate face, dropped
+    rng = np.random.default_rng(9)
+    m, n = len(F), len(V)
+    options = dict(
+        locked=rng.random(n) < 0.05, line_weights=rng.random(n) * 1e-2, quadric_scale=1 + rng.random(n),
+        feature_edges=F[:20, :2], vertex_attributes={"key": rng.normal(size=(n, 3)), "w": rng.random((n, 2))},
+        shape_attributes=("key",), corner_attributes={"uv": rng.random((m, 3, 2))}, uv_attributes=("uv",),
+    )
+    plain = core.simplify(V, F, target_faces=m, **options)
+    monkeypatch.setattr(locality, "MIN_VERTICES", 1)
+    renumbered = core.simplify(V, F, target_faces=m, **options)
+    assert renumbered.stats.welded_vertices == plain.stats.welded_vertices > 0
+    assert len(plain.faces) < m, "the duplicate face was kept"
+    for field in ("vertices", "faces", "face_origin", "vertex_origin"):
+        assert np.array_equal(getattr(renumbered, field), getattr(plain, field)), field
+    for name in plain.vertex_attributes:
+        assert np.array_equal(renumbered.vertex_attributes[name], plain.vertex_attributes[name]), name
+    assert np.array_equal(renumbered.corner_attributes["uv"], plain.corner_attributes["uv"])
+    # And a run that does collapse, with all of them and a distance bound.
+    r = core.simplify(V, F, target_faces=m // 4, max_error=0.05, **options)
+    check.assert_valid_result(r, V, F)
+    assert np.all(np.diff(r.vertex_origin) > 0) and np.all(np.diff(r.face_origin) > 0)
+    locked = np.flatnonzero(options["locked"])
+    locked = np.where(locked >= n0, split[np.clip(locked - n0, 0, 2)], locked)  # a copy's lock is its twin's
+    assert np.isin(locked, r.vertex_origin).all(), "a locked vertex was removed"
+
+
+def test_reorder_moves_every_field_of_the_problem_together(monkeypatch):
+    from core import prepare
+    V, F = _shuffled(*build.torus(16, 8), seed=10)
+    rng = np.random.default_rng(11)
+    n, m = len(V), len(F)
+    options = core.Options(
+        locked=rng.random(n) < 0.2, line_weights=rng.random(n), quadric_scale=1 + rng.random(n),
+        feature_edges=F[:10, :2], vertex_attributes={"w": rng.random((n, 2))},
+        corner_attributes={"uv": rng.random((m, 3, 2))}, uv_attributes=("uv",))
+    p = prepare.validate_and_prepare(V, F, [m // 2], options)
+    assert locality.reorder(p) is p and not p.renumbered, "a small mesh was renumbered"
+    monkeypatch.setattr(locality, "MIN_VERTICES", 1)
+    q = locality.reorder(p)
+    assert q.renumbered
+    old = q.vertex_origin  # q's vertex i is p's vertex old[i]
+    for field in ("vertices", "input_positions", "line_weights", "quadric_scale", "locked"):
+        assert np.array_equal(getattr(q, field), getattr(p, field)[old]), field
+    assert np.array_equal(q.vertex_attributes["w"], p.vertex_attributes["w"][old])
+    face_old = np.argsort(p.face_origin)[np.searchsorted(np.sort(p.face_origin), q.face_origin)]
+    assert np.array_equal(old[q.faces], p.faces[face_old]), "faces not renumbered with their vertices"
+    assert np.array_equal(q.corner_attributes["uv"], p.corner_attributes["uv"][face_old])
+    assert np.array_equal(np.sort(old[q.feature_edges], axis=1), np.sort(p.feature_edges, axis=1))
+
+
 def test_a_renumbered_run_keeps_everything_in_the_input_numbering(always_renumber):
     V, F = _shuffled(*build.torus(40, 20), seed=3)
     locked = np.zeros(len(V), dtype=bool)
