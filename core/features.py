@@ -103,17 +103,15 @@ def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.n
     # What the neighbours turn the same way is part of the same bend, not this corner's.
     along = np.maximum(np.maximum(turn[before[v]] * side, turn[after[v]] * side), 0.0)
     corner[v[(angle >= feature_angle) | (angle - along >= half)]] = True
-    # A loop turning the same way by half the angle at every vertex: a polygon.
-    bends = np.zeros(n, dtype=bool)
-    bends[v] = angle >= half
-    same = np.zeros(n)
-    same[v] = side
-    loop = connected_labels(n, a, b)
-    off = (~bends[a]) | (same[a] != same[b])  # an edge leaving the run of same-way turns
-    broken = np.zeros(n, dtype=bool)
-    broken[loop[a[off]]] = True
+    # A loop turning the same way by half the angle at every vertex: a polygon. Loops are
+    # found among the border vertices only (numbered 0..k-1), not over the whole mesh.
     on_border = np.flatnonzero(count > 0)
-    corner[on_border[~broken[loop[on_border]]]] = True
+    ia, ib = np.searchsorted(on_border, a), np.searchsorted(on_border, b)
+    loop = connected_labels(len(on_border), ia, ib)
+    off = (np.abs(turn[a]) < half) | (np.sign(turn[a]) != np.sign(turn[b]))  # leaves a run of same-way turns
+    broken = np.zeros(len(on_border), dtype=bool)
+    broken[loop[ia[off]]] = True
+    corner[on_border[~broken[loop]]] = True
     return corner
 
 
