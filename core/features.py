@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .quadrics import scatter_sum
-from .topology import Connectivity, connected_labels
+from .topology import Connectivity, connected_labels, next_corner
 
 # The default feature angle, in degrees. Right angles are what hard-surface parts are made
 # of (boxes, panels, a logo's outline), and 80 catches them with room for imprecise
@@ -76,7 +76,7 @@ def boundary_corners(vertices: np.ndarray, faces: np.ndarray, face_normals: np.n
     # Each border edge in the direction of its one face's half-edge: from a to b.
     h = conn.edge_he0[border]
     a = faces.ravel()[h]
-    b = faces.ravel()[h - h % 3 + (h % 3 + 1) % 3]
+    b = faces.ravel()[next_corner(h)]
     count = np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
     corner[count > 2] = True
     before = np.full(n, -1, dtype=np.int64)

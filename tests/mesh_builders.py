@@ -237,3 +237,13 @@ def icosphere(level: int):
                             np.c_[c, b, f[:, 2]], np.c_[a, b, c]])
         v = np.concatenate([v, mid])
     return v, f
+
+
+def shuffled(V, F, seed=0):
+    """The same surface with its vertices and faces numbered at random (the order a scan
+    or a careless exporter may give)."""
+    rng = np.random.default_rng(seed)
+    order = rng.permutation(len(V))
+    new_id = np.empty(len(V), dtype=np.int64)
+    new_id[order] = np.arange(len(V))
+    return V[order], new_id[F][rng.permutation(len(F))]

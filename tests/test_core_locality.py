@@ -19,15 +19,6 @@ def always_renumber(monkeypatch):
     monkeypatch.setattr(locality, "MIN_VERTICES", 1)
 
 
-def _shuffled(V, F, seed=0):
-    """The same surface with its vertices and faces numbered at random: the worst order."""
-    rng = np.random.default_rng(seed)
-    order = rng.permutation(len(V))
-    new_id = np.empty(len(V), dtype=np.int64)
-    new_id[order] = np.arange(len(V))
-    return V[order], new_id[F][rng.permutation(len(F))]
-
-
 def test_morton_order_visits_each_octant_before_the_next():
     cells = np.stack(np.meshgrid(*[np.arange(4)] * 3, indexing="ij"), axis=-1).reshape(-1, 3).astype(float)
     order = np.argsort(locality.morton_codes(cells))
@@ -41,7 +32,7 @@ def test_morton_order_visits_each_octant_before_the_next():
 
 
 def test_no_collapse_gives_the_input_back_in_its_own_order(always_renumber):
-    V, F = _shuffled(*build.torus(24, 12))
+    V, F = build.shuffled(*build.torus(24, 12))
     weights = np.random.default_rng(1).random((len(V), 2))
     uv = np.random.default_rng(2).random((len(F), 3, 2))
     r = core.simplify(V, F, target_faces=len(F), vertex_attributes={"w": weights},
@@ -58,7 +49,7 @@ def test_every_per_vertex_and_per_face_input_follows_the_renumbering(monkeypatch
     # Welded copies, a duplicate face, locks, weights, scales, feature edges, shape keys,
     # skin weights and UVs: with no collapse to make, a renumbered run must give exactly
     # what the input's own numbering gives.
-    V, F = _shuffled(*build.torus(24, 12), seed=8)
+    V, F = build.shuffled(*build.torus(24, 12), seed=8)
     n0 = len(V)
     split = F[0].copy()
     V = np.concatenate([V, V[split]])  # one face on split copies of its corners, welded back
@@ -91,7 +82,7 @@ def test_every_per_vertex_and_per_face_input_follows_the_renumbering(monkeypatch
 
 def test_reorder_moves_every_field_of_the_problem_together(monkeypatch):
     from core import prepare
-    V, F = _shuffled(*build.torus(16, 8), seed=10)
+    V, F = build.shuffled(*build.torus(16, 8), seed=10)
     rng = np.random.default_rng(11)
     n, m = len(V), len(F)
     options = core.Options(
@@ -114,7 +105,7 @@ def test_reorder_moves_every_field_of_the_problem_together(monkeypatch):
 
 
 def test_a_renumbered_run_keeps_everything_in_the_input_numbering(always_renumber):
-    V, F = _shuffled(*build.torus(40, 20), seed=3)
+    V, F = build.shuffled(*build.torus(40, 20), seed=3)
     locked = np.zeros(len(V), dtype=bool)
     locked[np.random.default_rng(4).choice(len(V), 25, replace=False)] = True
     weights = np.random.default_rng(5).random((len(V), 3))
@@ -139,7 +130,7 @@ def test_a_renumbered_run_keeps_everything_in_the_input_numbering(always_renumbe
 
 
 def test_renumbering_changes_order_not_outcome(monkeypatch):
-    V, F = _shuffled(*build.torus(48, 24), seed=6)
+    V, F = build.shuffled(*build.torus(48, 24), seed=6)
     target = len(F) // 10
     plain = core.simplify(V, F, target_faces=target)
     monkeypatch.setattr(locality, "MIN_VERTICES", 1)

@@ -315,11 +315,7 @@ def test_rounded_border_corners_do_not_lock_part_of_a_bend(shuffled):
     # (shuffled).
     V, F = _bevelled_patches()
     if shuffled:
-        rng = np.random.default_rng(7)
-        order = rng.permutation(len(V))
-        new_id = np.empty(len(V), dtype=np.int64)
-        new_id[order] = np.arange(len(V))
-        V, F = V[order], new_id[F]
+        V, F = build.shuffled(V, F, seed=7)
     patches = len(F) // 27
     target = 3 * patches
     with_corners = core.simplify(V, F, target_faces=target)
@@ -347,10 +343,7 @@ def test_border_corners_do_not_depend_on_the_numbering(seed):
         return {tuple(p) for p in np.round(V[corner], 9)}
 
     for V, F in (_bevelled_patches(), _polygon_plate(6)[:2], _star()[:2]):
-        order = np.random.default_rng(seed).permutation(len(V))
-        new_id = np.empty(len(V), dtype=np.int64)
-        new_id[order] = np.arange(len(V))
-        assert corner_points(V[order], new_id[F]) == corner_points(V, F)
+        assert corner_points(*build.shuffled(V, F, seed)) == corner_points(V, F)
 
 
 def _polygon_plate(sides=6, rings=8):
