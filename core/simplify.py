@@ -7,7 +7,7 @@ import numpy as np
 
 from .options import Options
 from .result import SimplifyResult
-from . import engine, prepare
+from . import allocation, engine, prepare
 
 
 def simplify(
@@ -56,7 +56,8 @@ def simplify_chain(vertices, faces, targets: Sequence[int], options: Optional[Op
     for :func:`simplify`.
     """
     opts = Options.of(options, **option_values)
-    return engine.run(prepare.validate_and_prepare(vertices, faces, targets, opts, progress))
+    with allocation.reused_memory(len(faces) if hasattr(faces, "__len__") else 0):
+        return engine.run(prepare.validate_and_prepare(vertices, faces, targets, opts, progress))
 
 
 def _single_target(faces, target_faces, ratio, max_error) -> int:
