@@ -22,7 +22,7 @@ from . import locality
 class Problem:
     vertices: np.ndarray  # normalised: centred on the bounding box, unit diagonal
     input_positions: np.ndarray  # as given: vertices that never move come back bit-exact
-    faces: np.ndarray
+    faces: np.ndarray  # engine.run takes them over and sets this to None (memory, see there)
     face_origin: np.ndarray
     vertex_origin: np.ndarray
     targets: list
