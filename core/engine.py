@@ -153,7 +153,7 @@ def run(p: Problem) -> list:
     # The passes own the faces and their connectivity from here (s.F and s.conn, rebuilt as
     # faces die), and the face frames were for the setup only. Holding any of them here
     # would keep it through the first pass, which on a large mesh is the run's peak of
-    # memory (the 2M-face ogre: 1,546 -> 1,414 MB), and the first connectivity after it.
+    # memory (the 2M-face ogre: 1,546 -> 1,246 MB), and the first connectivity after it.
     del face_normals, face_areas, F, conn
     p.faces = None
 
