@@ -96,6 +96,13 @@ def scan_like(subdivisions: int = 9, noise: float = 0.0005, seed: int = 0):
     V, F = bumpy_sphere(subdivisions)
     rng = np.random.default_rng(seed)
     V = V * (1.0 + noise * rng.standard_normal(len(V)))[:, None]
+    return shuffled(V, F, rng)
+
+
+def shuffled(V, F, seed=0):
+    """The same surface with its vertices and faces numbered at random (the order a scan
+    or a careless exporter may give). seed: an int or a numpy Generator."""
+    rng = np.random.default_rng(seed)
     order = rng.permutation(len(V))
     new_id = np.empty(len(V), dtype=np.int64)
     new_id[order] = np.arange(len(V))

@@ -5,9 +5,10 @@ edges. When a mesh's numbering scatters neighbours over the whole array (a subdi
 re-exported mesh appends new vertices at the end; a scan may come in any order), those
 gathers miss the cache once the arrays outgrow it, and the time per face grows with the
 mesh. Sorting the vertices along a Z-order (Morton) curve and the faces by their smallest
-corner keeps neighbours close: on the ogre subdivided to 2M faces the run took 17 %
-less time, at 7.9M faces 15 % less (single runs; repeats vary by about 10 %); below about a million faces the arrays fit the cache
-and nothing changes, so small meshes keep their own numbering (and their outputs).
+corner keeps neighbours close: on the ogre subdivided to 2M faces the run took 17 % less
+time, at 7.9M faces 15 % less (single runs; repeats vary by about 10 %); below about a
+million faces the arrays fit the cache and nothing changes, so small meshes keep their
+own numbering (and their outputs).
 
 The engine works on the renumbered mesh; ``engine._snapshot`` gives the LOD back in the
 input's order (vertices by ``vertex_origin``, faces by ``face_origin``).

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from bench.synthetic_meshes import shuffled  # noqa: F401  (tests renumber meshes with it)
+
 
 def grid(nx: int = 10, ny: int = None, size=1.0, jitter: float = 0.0, seed: int = 0,
          height=None, alternate: bool = True):
@@ -238,12 +240,3 @@ def icosphere(level: int):
         v = np.concatenate([v, mid])
     return v, f
 
-
-def shuffled(V, F, seed=0):
-    """The same surface with its vertices and faces numbered at random (the order a scan
-    or a careless exporter may give)."""
-    rng = np.random.default_rng(seed)
-    order = rng.permutation(len(V))
-    new_id = np.empty(len(V), dtype=np.int64)
-    new_id[order] = np.arange(len(V))
-    return V[order], new_id[F][rng.permutation(len(F))]
