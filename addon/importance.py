@@ -53,6 +53,18 @@ GAIN_TO_FACTOR = ((1, 1), (1.42, 1.5), (1.82, 2), (2.4, 3), (2.99, 4), (4, 6), (
                   (10.8, 24), (14.55, 32), (28.55, 64), (43.67, 128), (61, 256), (95.25, 1000))
 
 
+# Source Armature: what the sample poses' mean error counts against the rest error
+# (core.Options.pose_weight) at Strength 1; the default 0.5 gives 4, measured on the Fox
+# rows of bench/figures/skinned_poses.py (docs/armature.md): 2 and 8 did no better posed,
+# 8 cost more at rest.
+POSE_WEIGHT_AT_FULL_STRENGTH = 8.0
+
+
+def pose_weight(strength: float) -> float:
+    """core.Options.pose_weight for Source Armature at ``strength`` (0 = poses left out)."""
+    return POSE_WEIGHT_AT_FULL_STRENGTH * float(strength)
+
+
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
     """Importance g in [0, 1] from (n, bones) deform weights: the paper's Sec. 5.3 line
     weights w_i over their cap (w / 0.1)."""

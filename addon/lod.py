@@ -68,6 +68,9 @@ class LodInput:
     names: dict  # attribute keys given to the core -> what they stand for
     warnings: list = field(default_factory=list)
     importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
+    # Source Armature: the rig's sample poses (P, deform bones, 4, 4) in mesh coordinates,
+    # in the order of names["skin"] (core.skinning): the LODs' weights are fitted to them.
+    poses: Optional[np.ndarray] = None
     # A chain by deviation: each LOD's largest allowed measured distance, in the object's
     # own (local) units, like the mesh data;
     # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
@@ -116,8 +119,9 @@ def deform_columns(obj, group_names) -> tuple:
     return arm, [i for i, name in enumerate(group_names) if name in deform]
 
 
-def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
-    """Paper Sec. 5.3 importance of ``obj``'s vertices in [0, 1] (w_i / 0.1), or LodError."""
+def skinned_columns(obj, group_names) -> tuple:
+    """(armature, columns of the groups named after its deform bones); LodError naming
+    what is missing when ``obj`` is not skinned."""
     arm = armature_of(obj)
     if arm is None:
         raise LodError(f'"{obj.name}" is not skinned: it has no Armature modifier or armature parent')
@@ -128,7 +132,29 @@ def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
         raise LodError(
             f'"{obj.name}" has no vertex groups named after the deform bones of "{arm.name}": '
             f'weight it first (e.g. Parent > With Automatic Weights)')
+    return arm, cols
+
+
+def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
+    """The paper's (Sec. 5.3) importance g in [0, 1] from ``obj``'s deform-bone weights."""
+    _, cols = skinned_columns(obj, group_names)
     return imp.skin_importance(np.asarray(group_weights)[:, cols])
+
+
+def sample_poses(obj, group_names) -> np.ndarray:
+    """(P, B, 4, 4) deform matrices of core.skinning's random sample poses of ``obj``'s
+    armature, in the mesh's own coordinates, one per deform-bone group in the order of
+    ``deform_columns``. Made from the bones' rest matrices: the scene's pose is not read
+    or touched."""
+    arm, cols = skinned_columns(obj, group_names)
+    bones = list(arm.data.bones)
+    names = [b.name for b in bones]
+    rest = np.array([np.array(b.matrix_local, dtype=np.float64) for b in bones])
+    parents = np.array([names.index(b.parent.name) if b.parent is not None else -1 for b in bones])
+    to_armature = np.linalg.inv(np.array(arm.matrix_world, dtype=np.float64)) @ np.array(obj.matrix_world,
+                                                                                     dtype=np.float64)
+    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents), to_armature)
+    return poses[:, [names.index(group_names[c]) for c in cols]]
 
 
 def _importance(obj, settings, group_names, group_weights) -> Optional[np.ndarray]:
@@ -142,12 +168,12 @@ def _importance(obj, settings, group_names, group_weights) -> Optional[np.ndarra
         if name not in group_names:
             raise LodError(f'"{obj.name}" has no vertex group "{name}"')
         return np.asarray(group_weights)[:, list(group_names).index(name)]
-    if settings.importance_source == 'ARMATURE':
+    if settings.importance_source == 'ARMATURE_PAPER':
         return skin_importance_of(obj, group_names, group_weights)
-    return None
+    return None  # 'ARMATURE' acts through the sample poses (prepare), not through g
 
 
-def _core_options(obj, settings, data, g) -> tuple:
+def _core_options(obj, settings, data, g, poses=None) -> tuple:
     names = {}
     vattr, cattr, normalize, uvs = {}, {}, [], []
     weights = data.group_weights
@@ -205,6 +231,9 @@ def _core_options(obj, settings, data, g) -> tuple:
         options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
     if g is not None:
         options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength))
+    if poses is not None:
+        options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
+                                  pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
     return options, names
 
 
@@ -229,10 +258,13 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     if settings.deviation_chain() is not None:
         deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     g = _importance(source, settings, data.group_names, data.group_weights)
-    options, names = _core_options(source, settings, data, g)
+    poses = None
+    if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
+        poses = sample_poses(source, data.group_names)
+    options, names = _core_options(source, settings, data, g, poses)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
-                    deviations=deviations)
+                    deviations=deviations, poses=poses)
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -244,6 +276,9 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
         raise LodError("Make a mesh object active")
     if settings.importance_source == 'NONE':
         raise LodError("Importance source is None: choose a vertex group or the armature first")
+    if settings.importance_source == 'ARMATURE':
+        raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
+                       "there is nothing to preview (Armature (Paper) has one)")
     names = vertex_groups.group_names(obj.data)
     g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
@@ -397,6 +432,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     diagonal = measure.bbox_diagonal(data.vertices, data.faces) if lod_input.deviations is not None else None
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
+        if lod_input.poses is not None:
+            result = _fit_skin(lod_input, result)
         levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
         entry = {
@@ -431,6 +468,20 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         reports.append(entry)
     report_progress(1.0)
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
+
+
+SKIN_FIT_SAMPLES = 20_000  # source points the weights are fitted at (about 1 s on 2 cores)
+
+
+def _fit_skin(lod_input: LodInput, result):
+    """The LOD with its skin weights fitted to the rig's sample poses (core.skinning.fit_weights)."""
+    data = lod_input.data
+    skin = data.group_weights[:, lod_input.names["skin"]]
+    points, weights = core.skinning.surface_samples(data.vertices, data.faces, skin, SKIN_FIT_SAMPLES)
+    tri, bary = measure.closest_points(result.vertices, result.faces, points)
+    fitted = core.skinning.fit_weights(result.vertices, result.faces, result.vertex_attributes["skin"],
+                                       points, weights, tri, bary, lod_input.poses)
+    return dataclasses.replace(result, vertex_attributes={**result.vertex_attributes, "skin": fitted})
 
 
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:

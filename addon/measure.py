@@ -155,6 +155,18 @@ def _distances(tree, points: np.ndarray, with_faces: bool = False):
     return hits[:, 1], hits[:, 0].astype(np.int64)
 
 
+def closest_points(v: np.ndarray, f: np.ndarray, points: np.ndarray) -> tuple:
+    """For each point (k, 3), the triangle of (v, f) its closest point is on (k,) and that
+    point's barycentric coordinates on it (k, 3)."""
+    from ._core import core
+
+    v = np.asarray(v, dtype=np.float64)
+    f = np.asarray(f, dtype=np.int64)
+    _, tri = _distances(_build_tree(v, f), np.asarray(points, dtype=np.float64), with_faces=True)
+    bary, _ = core.geometry.closest_on_triangles(points, v[f[tri, 0]], v[f[tri, 1]], v[f[tri, 2]])
+    return tri, bary
+
+
 def bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
     """The diagonal of the bounding box of the vertices ``f`` uses (what *_percent divide by)."""
     return _bbox_diagonal(np.asarray(v, dtype=np.float64), np.asarray(f))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import bpy
 
 from .settings import PRESERVE_PAIRS, LodSettings
-from .importance import expected_gain
+from .importance import expected_gain, pose_weight
 from .operators import (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_from_armature,
@@ -77,7 +77,11 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                     box.label(text=f'"{ob.name}" has no group "{settings.importance_group}"', icon='ERROR')
             else:
                 box.prop(settings, "importance_group", text="Group")
-        if settings.importance_source != 'NONE':
+        if settings.importance_source == 'ARMATURE':
+            box.prop(settings, "importance_strength")
+            # Not a density: the rig's sample poses count in the error (addon/importance.py).
+            box.label(text=f"Sample poses count {pose_weight(settings.importance_strength):g}x the rest shape")
+        elif settings.importance_source != 'NONE':
             box.prop(settings, "importance_strength")
             # What the strength buys, from the calibration (addon/importance.py).
             box.label(text=f"Importance 1: about {expected_gain(settings.importance_strength):.1f}x "
@@ -85,7 +89,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         row = box.row(align=True)
         row.operator(OBJECT_OT_line_quadric_lod_paint.bl_idname, icon='BRUSH_DATA')
         row.operator(OBJECT_OT_line_quadric_lod_from_armature.bl_idname, icon='ARMATURE_DATA')
-        if settings.importance_source != 'NONE':
+        if settings.importance_source not in ('NONE', 'ARMATURE'):  # ARMATURE has no per-vertex g
             box.operator(OBJECT_OT_line_quadric_lod_preview_importance.bl_idname, icon='HIDE_OFF')
 
         box = layout.box()

@@ -57,8 +57,12 @@ IMPORTANCE_SOURCES = (
     ('VERTEX_GROUP', "Vertex Group",
      "A vertex group (e.g. painted in Weight Paint mode): weight 1 marks the most important vertices"),
     ('ARMATURE', "Armature",
-     "From the skin weights (paper Sec. 5.3): vertices shared by several deform bones, "
-     "near joints, are kept so the LOD still bends well"),
+     "From the rig: the LOD is kept close in sample poses of the armature too, and its "
+     "skin weights are fitted to them, so it bends like the source (Strength: how much "
+     "the poses count)"),
+    ('ARMATURE_PAPER', "Armature (Paper)",
+     "From the skin weights as in the paper (Sec. 5.3): vertices shared by several deform "
+     "bones, near joints, are kept denser"),
 )
 TARGET_KINDS = (
     ('COUNT', "Triangles", "A share of the source's triangles (Ratio) or a triangle count"),

@@ -14,6 +14,8 @@ Public API:
     triangle_quality(vertices, faces) -> (m,) quality in [0, 1]; SLIVER_QUALITY below it
         a triangle is a sliver (the default min_quality and every report's threshold)
     skin_line_weights(skin) -> (n,) the paper's Sec. 5.3 w_i from skinning weights
+    skinning                    sample poses of a rig, pose offsets for the error, and
+        LOD skin weights fitted to the poses (skinned characters, issue 19)
     shading                     Blender's corner normals from smooth flags and sharp edges,
         and the geometry of comparing two meshes' shading normals
 """
@@ -32,6 +34,7 @@ from .metrics import SLIVER_QUALITY, triangle_quality, quality_summary
 from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
 from . import shading  # shading normals and their deviation (addon/measure.py's normal_deviation)
+from . import skinning  # posed error and fitted weights for skinned LODs (addon/lod.py)
 
 __all__ = [
     "Options",
@@ -51,4 +54,5 @@ __all__ = [
     "skin_line_weights",
     "topology",
     "shading",
+    "skinning",
 ]

@@ -97,6 +97,7 @@ class State:
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
+    key_weights: object = None  # (K,) what each key's error counts (shape_keys.key_weights)
     key_scale: float = 1.0  # offsets are in input units; positions are normalised
     tracker: object = None  # core.tracked_distance, when max_error bounds the distance
     far_rejected: object = None  # (k,) per edge: last rejected by the distance bound
@@ -143,7 +144,7 @@ def run(p: Problem) -> list:
         s.max_error = p.max_error[0]
         s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.input_faces)
         s.far_rejected = np.zeros(len(conn.edges), dtype=bool)
-    if p.shape_attributes:
+    if p.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
     s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
@@ -211,14 +212,21 @@ def _distance_blocks(s: State) -> bool:
 
 
 def _shape_keys(s: State, p: Problem, names, X, area):
-    """Put the strongest shape keys in the error (core.shape_keys)."""
+    """Put the strongest shape keys and every sample pose in the error (core.shape_keys,
+    core.skinning): both are offsets the merged vertex follows by interpolation."""
     starts = np.cumsum([0] + [p.vertex_attributes[k].shape[1] for k in names])
-    columns = [slice(starts[names.index(k)], starts[names.index(k)] + 3) for k in p.shape_attributes]
+
+    def columns(group):
+        return [slice(starts[names.index(k)], starts[names.index(k)] + 3) for k in group]
     s.key_scale = 1.0 / p.scale
-    offsets = np.stack([X[:, c] for c in columns]) * s.key_scale
-    chosen = shape_keys.strongest(offsets, area)
-    s.key_columns = tuple(columns[i] for i in chosen)
-    s.key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets[chosen])
+    key_columns, pose_columns = columns(p.shape_attributes), columns(p.pose_attributes)
+    if key_columns:
+        offsets = np.stack([X[:, c] for c in key_columns]) * s.key_scale
+        key_columns = [key_columns[i] for i in shape_keys.strongest(offsets, area)]
+    s.key_columns = tuple(key_columns + pose_columns)
+    s.key_weights = shape_keys.key_weights(len(key_columns), len(pose_columns), p.pose_weight)
+    offsets = np.stack([X[:, c] for c in s.key_columns]) * s.key_scale
+    s.key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets)
 
 
 def _unstick(s: State, p: Problem, target: int):
@@ -480,6 +488,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         k = p.vertex_attributes[name].shape[1]
         vals = s.X[kept, col:col + k].copy()
         col += k
+        if name in p.pose_attributes:  # in the error only, not carried
+            continue
         if name in p.normalize_attributes:
             vals = _renormalise(vals, p.vertex_attributes[name][kept])
         vattrs[name] = vals

@@ -79,6 +79,11 @@ class Options:
       shape_attributes: names among vertex_attributes (k = 3) that are shape-key offsets
         (mesh units): the LOD is kept close at each key's full value too, not only at rest
         (the strongest 16 count; core.shape_keys).
+      pose_offsets: (P, n, 3) or None, offsets (mesh units) of every vertex in P sample
+        poses of its rig (core.skinning.pose_offsets): like shape keys, the LOD is kept
+        close in each pose too, only in the error (nothing is carried to the result).
+      pose_weight: >= 0, what the poses' mean error counts against the rest error (1 =
+        alike; 0 leaves the poses out).
       weld_distance: weld vertices closer than this before simplifying (split vertices of
         exported assets); None welds only exactly coincident ones, a negative value none.
     """
@@ -104,6 +109,8 @@ class Options:
     min_quality: float = SLIVER_QUALITY
     remove_small_components: bool = False
     shape_attributes: Sequence[str] = ()
+    pose_offsets: Any = None
+    pose_weight: float = 1.0
 
     @classmethod
     def names(cls) -> tuple:

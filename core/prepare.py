@@ -46,6 +46,8 @@ class Problem:
     min_quality: float
     remove_small_components: bool
     shape_attributes: tuple  # names of vertex attributes that are shape-key offsets (n, 3)
+    pose_attributes: tuple  # names of the vertex attributes that hold pose_offsets (error only)
+    pose_weight: float
     center: np.ndarray
     scale: float
     input_vertices: int
@@ -114,6 +116,20 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     for name in shapes:
         if name not in vattrs or vattrs[name].shape[1] != 3:
             raise ValueError(f"shape_attributes names {name!r}, which is not a 3-component vertex attribute")
+    pose_weight = checks.non_negative(o.pose_weight, "pose_weight")
+    poses = ()
+    if o.pose_offsets is not None and pose_weight > 0:
+        offsets = np.asarray(o.pose_offsets, dtype=np.float64)
+        if offsets.ndim != 3 or offsets.shape[1:] != (n, 3):
+            raise ValueError(f"pose_offsets must be (poses, n, 3) with n = {n}, got shape {offsets.shape}")
+        if not np.isfinite(offsets).all():
+            raise ValueError("pose_offsets must be finite")
+        # Carried through the run like vertex attributes (interpolated along collapses),
+        # under names no caller can give, and left out of the result.
+        vattrs = dict(vattrs)
+        poses = tuple(f"\0pose{i}" for i in range(len(offsets)))
+        for name, offset in zip(poses, offsets):
+            vattrs[name] = offset
     weld_distance = o.weld_distance
     if weld_distance is not None:
         weld_distance = float(weld_distance)
@@ -172,6 +188,8 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         min_quality=min_quality,
         remove_small_components=bool(o.remove_small_components),
         shape_attributes=shapes,
+        pose_attributes=poses,
+        pose_weight=pose_weight,
         center=center,
         scale=scale,
         input_vertices=n,

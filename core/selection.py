@@ -102,10 +102,11 @@ def _optimal(s, keep, remove, k_keep, k_remove):
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
     error = quadrics.evaluate(q, position)
     if s.key_quadrics is not None:
-        # At each shape key's full value the merged vertex moves by its interpolated offset.
+        # At each shape key's full value (and in each sample pose, core.skinning) the
+        # merged vertex moves by its interpolated offset.
         t = edge_parameter(v_keep, v_remove, position)[:, None]
         merged = np.stack([(s.X[keep, c] + t * (s.X[remove, c] - s.X[keep, c])) * s.key_scale for c in s.key_columns])
-        error = error + shape_keys.collapse_error(s.key_quadrics, keep, remove, position, merged)
+        error = error + shape_keys.collapse_error(s.key_quadrics, keep, remove, position, merged, s.key_weights)
     if not s.cost_per_area:
         return position, error
     area = np.maximum(s.area[keep] + s.area[remove], 1e-300)

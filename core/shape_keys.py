@@ -45,12 +45,20 @@ def vertex_quadrics(vertices: np.ndarray, faces: np.ndarray, offsets: np.ndarray
     return out
 
 
+def key_weights(shape_keys: int, poses: int, pose_weight: float) -> np.ndarray:
+    """(K,) what each key's error counts: the mean over the shape keys, plus
+    ``pose_weight`` times the mean over the sample poses (core.skinning)."""
+    return np.concatenate([np.full(shape_keys, 1.0 / max(shape_keys, 1)),
+                           np.full(poses, pose_weight / max(poses, 1))])
+
+
 def collapse_error(key_quadrics: np.ndarray, keep: np.ndarray, remove: np.ndarray, position: np.ndarray,
-                   merged_offsets: np.ndarray) -> np.ndarray:
-    """(k,) mean over the keys of the squared distance of each merged vertex, at
-    ``position`` plus its interpolated offset (K, k, 3), to both ends' planes in that key."""
+                   merged_offsets: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """(k,) weighted sum over the keys (``weights`` (K,), key_weights) of the squared
+    distance of each merged vertex, at ``position`` plus its interpolated offset (K, k, 3),
+    to both ends' planes in that key."""
     total = np.zeros(len(keep))
     for k in range(len(key_quadrics)):
         q = quadrics.pair_sums(key_quadrics[k], keep, remove)
-        total += quadrics.evaluate(q, position + merged_offsets[k])
-    return total / len(key_quadrics)
+        total += weights[k] * quadrics.evaluate(q, position + merged_offsets[k])
+    return total

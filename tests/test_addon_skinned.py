@@ -49,7 +49,8 @@ def test_lods_deform_with_the_rig(res):
 
 @pytest.mark.parametrize("ratio", [0.1, 0.03])
 def test_posed_lod_beats_decimate(res, ratio):
-    for source in ("ARMATURE", "VERTEX_GROUP"):
+    """The paper's mapping (Source Armature (Paper), or its baked group)."""
+    for source in ("ARMATURE_PAPER", "VERTEX_GROUP"):
         info = res["runs"][f"{source}_{ratio}"]
         assert info["moved"] > 0.5  # the pose really bends the arm
         for tris in info["triangles"]:
@@ -69,6 +70,21 @@ def test_posed_lod_beats_decimate(res, ratio):
         # On average as close at 10 %. At 3 % (184 triangles) the greedy cheapest-first
         # order itself is a little further on average on this tube (bench/arm_order.py).
         assert statistics.median(mean) < (1.05 if ratio >= 0.1 else 1.1) * dec_mean
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.03])
+def test_sample_poses_make_the_posed_lod_closer_on_average(res, ratio):
+    """Source Armature (sample poses in the error, weights fitted to them): closer than no
+    importance on average, and as close as Decimate (measured 0.93x / 0.86x none's mean,
+    0.86x / 1.05x Decimate's at 10 % / 3 %). Its worst spot at 3 % is further than the
+    paper mapping's (measured 3.06 % against Decimate's 2.71 %: the weights are fitted in
+    least squares), so only a bound is asserted there."""
+    info, none = res["runs"][f"ARMATURE_{ratio}"], res["runs"][f"NONE_{ratio}"]
+    (hausdorff, mean), = info["ours"]
+    assert abs(info["triangles"][0] - none["triangles"][0]) <= 1
+    assert mean < 0.97 * none["ours"][0][1]
+    assert mean < (1.0 if ratio >= 0.1 else 1.1) * info["decimate"][1]
+    assert hausdorff < (1.2 * info["decimate"][0] if ratio >= 0.1 else 3.5)
 
 
 def test_posed_source_is_read_at_rest(res):

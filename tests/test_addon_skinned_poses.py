@@ -29,11 +29,20 @@ def test_same_count_and_still_skinned(res):
     assert res["moved"] > 0.3  # every pose really bends the tube
 
 
-def test_armature_importance_makes_posed_lods_closer(res):
-    """Source Armature (the paper's mapping through the calibrated slider) against no
-    importance at the same count: closer when posed, on average over the poses, and the
-    rest-pose cost stays within issue 19's 1.2x. (The issue asks for 10 % closer; on this
-    rig the mapping gives about 6 %: docs/armature.md has the numbers.)"""
+def test_armature_makes_posed_lods_closer(res):
+    """Source Armature (the rig's sample poses in the error, weights fitted to them)
+    against no importance at the same count: at least 10 % closer posed, on average over
+    the poses (issue 19; measured 0.87x), and the rest-pose cost within the issue's 1.2x
+    (measured 1.05x). The test's poses (20-50 degrees, seeds 11-14) are not the sample
+    poses (core.skinning.random_poses, seed 0, up to 40 degrees)."""
     none, ours = _mean(res["posed"]["NONE"]), _mean(res["posed"]["ARMATURE"])
-    assert ours < 0.98 * none, res["posed"]
+    assert ours < 0.9 * none, res["posed"]
     assert res["rest"]["ARMATURE"] <= 1.2 * res["rest"]["NONE"], res["rest"]
+
+
+def test_papers_mapping_makes_posed_lods_a_little_closer(res):
+    """Source Armature (Paper), the paper's mapping through the calibrated slider: closer
+    posed, but by less than the issue's 10 % (measured 0.97x; docs/armature.md)."""
+    none, ours = _mean(res["posed"]["NONE"]), _mean(res["posed"]["ARMATURE_PAPER"])
+    assert ours < 0.99 * none, res["posed"]
+    assert res["rest"]["ARMATURE_PAPER"] <= 1.2 * res["rest"]["NONE"], res["rest"]

@@ -43,7 +43,7 @@ from blender_reference import stdout_to_stderr
 
 RANDOM_POSES = 5
 MAX_ANGLE_DEG = 40.0
-SOURCES = {"none": "NONE", "paper": "ARMATURE"}
+SOURCES = {"none": "NONE", "paper": "ARMATURE_PAPER", "poses": "ARMATURE"}
 FIG_POSES = [("Run", f) for f in (0, 4, 8, 12, 16, 20, 24)] + [("Survey", f) for f in (20, 40, 60)]
 
 
@@ -195,7 +195,7 @@ def main() -> None:
     ap.add_argument("--rows", default="A,B,C,D")
     ap.add_argument("--samples", type=int, default=50_000, help="distance samples per surface")
     ap.add_argument("--strength", type=float, default=0.5, help="importance strength (the add-on's default 0.5)")
-    ap.add_argument("--sources", default="none,paper")
+    ap.add_argument("--sources", default="none,paper,poses")
     args = ap.parse_args()
     path = fc.find_mesh("Fox")
     if path is None:

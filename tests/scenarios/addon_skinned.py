@@ -84,10 +84,10 @@ def posed_against_decimate(rig, ob, V, skin, src_tris) -> dict:
     core_module.simplify_chain = lambda *args, **kwargs: simplify_chain(*args, seed=seed_now[0], **kwargs)
     runs = {}
     try:
-        for source in ('ARMATURE', 'VERTEX_GROUP', 'NONE'):
+        for source in ('ARMATURE', 'ARMATURE_PAPER', 'VERTEX_GROUP', 'NONE'):
             for ratio in (0.1, 0.03):
                 info = {"triangles": [], "ours": []}
-                for seed in ((0, 1, 2) if source != 'NONE' else (0,)):
+                for seed in ((0, 1, 2) if source in ('ARMATURE_PAPER', 'VERTEX_GROUP') else (0,)):
                     seed_now[0] = seed
                     pose(rig, False)
                     select_only(ob)

@@ -41,7 +41,7 @@ def run() -> dict:
     result["parent"] = parent_with_automatic_weights(rig, ob)
 
     lods = {}
-    for source in ('NONE', 'ARMATURE'):
+    for source in ('NONE', 'ARMATURE', 'ARMATURE_PAPER'):
         set_pose(rig, None)
         report = lod.generate_lods(bpy.context.scene, ob, LodSettings(
             ratio=0.05, levels=1, importance_source=source, measure_deviation=False))
