@@ -154,8 +154,9 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     g.add_argument("--importance-group", metavar="NAME",
                    help="vertex group painting where detail matters (weight 1 = keep most)")
     g.add_argument("--from-armature", action="store_true",
-                   help="importance from the skin weights of skinned objects (paper Sec. 5.3): "
-                        "detail is kept where bones bend")
+                   help="on skinned objects, Source Armature: the rig's sample poses count in the "
+                        "error and the LOD's skin weights are fitted to them, so the LOD bends "
+                        "like the source (docs/armature.md)")
     add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
                       *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 
