@@ -12,11 +12,13 @@ bench never builds a stand-in character; tests do that).
 Compared at the same triangle count (10 % of the subdivided character), all through the
 bpy module, each LOD posed by the same armature at 10 frames of the Fox's "Run" and
 "Survey" animations:
-  * ours, Armature importance: the add-on's own path (addon.lod.generate_lods with
-    importance source ARMATURE at the default strength: the paper's w_i = min(0.15 (1 - s_i), 0.1)
-    over its cap is the importance g, acting like painted importance, addon/importance.py);
-    the LOD object gets interpolated vertex groups and its own Armature modifier. Every
-    other setting is the add-on's default (UV seams, sharp edges, boundaries kept);
+  * ours, Armature (sample poses): the add-on's own path (addon.lod.generate_lods with
+    importance source ARMATURE at the default strength: the rig's sample poses in the
+    error and the LOD's weights fitted to them, core/skinning.py, docs/armature.md); the
+    LOD object gets its vertex groups and its own Armature modifier. Every other setting
+    is the add-on's default (UV seams, sharp edges, boundaries kept);
+  * ours, Armature (Paper): source ARMATURE_PAPER, the paper's w_i = min(0.15 (1 - s_i), 0.1)
+    over its cap as the importance g, acting like painted importance (addon/importance.py);
   * ours, no importance: the same with importance source NONE;
   * both again with UV Seams off, because Blender's Decimate does not keep seams either;
   * Blender's Decimate (Collapse, default settings) inserted between the Subdivision
@@ -145,10 +147,11 @@ def main() -> None:
     m = len(world_arrays(fox)[1])
 
     objects = {}
-    objects["ours, Armature importance"], faces = make_lod(fox, arm, "ours, Armature importance", "ARMATURE")
+    objects["ours, Armature (sample poses)"], faces = make_lod(fox, arm, "ours, Armature (sample poses)", "ARMATURE")
     objects["ours, no importance"], _ = make_lod(fox, arm, "ours, no importance", "NONE")
+    objects["ours, Armature (Paper)"], _ = make_lod(fox, arm, "ours, Armature (Paper)", "ARMATURE_PAPER")
     # Blender's Decimate ignores UV seams; these two show ours on geometry alone as well.
-    for label, source in (("ours, Armature importance, seams off", "ARMATURE"),
+    for label, source in (("ours, Armature (sample poses), seams off", "ARMATURE"),
                           ("ours, no importance, seams off", "NONE")):
         objects[label], _ = make_lod(fox, arm, label, source, preserve_seams=False)
     objects["Blender Decimate"] = decimated_copy(fox, faces, m)
@@ -228,10 +231,11 @@ def main() -> None:
     def avg(label, key):
         return float(np.mean([posed[p][label][2][key] for p in POSES]))
 
-    ours, plain, blender = labels[0], labels[1], "Blender Decimate"
+    ours, plain, paper, blender = labels[0], labels[1], labels[2], "Blender Decimate"
     print(f"Over {len(POSES)} poses of the Fox's Run and Survey animations at {RATIO:.0%}, the posed LOD's mean "
-          f"deviation from the posed original averages {avg(ours, 'mean_percent'):.4f} % with skin-derived "
-          f"importance, {avg(plain, 'mean_percent'):.4f} % without importance and "
+          f"deviation from the posed original averages {avg(ours, 'mean_percent'):.4f} % with Source Armature "
+          f"(sample poses), {avg(paper, 'mean_percent'):.4f} % with the paper's skin importance, "
+          f"{avg(plain, 'mean_percent'):.4f} % without importance and "
           f"{avg(blender, 'mean_percent'):.4f} % for Blender's Decimate (Hausdorff {avg(ours, 'hausdorff_percent'):.3f} / "
           f"{avg(plain, 'hausdorff_percent'):.3f} / {avg(blender, 'hausdorff_percent'):.3f} %).")
     print(tables.header("method", "triangles", "rest Hausdorff %", "rest mean %",
