@@ -40,7 +40,9 @@ def skin(points: np.ndarray, weights: np.ndarray, matrices: np.ndarray) -> np.nd
     total = weights.sum(axis=1)
     has = total > 0
     w = weights / np.where(has, total, 1.0)[:, None]
-    moved = np.einsum("nb,bij,nj->ni", w, matrices[:, :3, :3], points) + w @ matrices[:, :3, 3]
+    # Blend the matrices first (one (n, B) x (B, 12) product), then apply each point's own.
+    blended = (w @ matrices[:, :3, :].reshape(len(matrices), 12)).reshape(-1, 3, 4)
+    moved = np.einsum("nij,nj->ni", blended[:, :, :3], points) + blended[:, :, 3]
     return np.where(has[:, None], moved, points)
 
 
@@ -138,10 +140,14 @@ def fit_weights(lod_vertices: np.ndarray, lod_faces: np.ndarray, lod_weights: np
     Minimises, over the poses and samples, the squared distance between the posed source
     point and the posed LOD point with the same barycentric coordinates, plus
     ``smoothing`` (times the bounding-box diagonal) times the change from the interpolated
-    weights, by conjugate gradients on the least squares (CGLS). Each vertex may only take
-    weight from the MAX_INFLUENCES bones that weigh most in its own and its samples'
-    weights; the result is clipped to >= 0 and each row scaled to sum to one, so the rest
-    shape does not move.
+    weights. Each vertex may only take weight from the MAX_INFLUENCES bones that weigh most
+    in its own and its samples' weights; the result is clipped to >= 0 and each row scaled
+    to sum to one, so the rest shape does not move.
+
+    How: the least squares' normal equations are assembled per LOD triangle once (what a
+    triangle's samples contribute depends on them only through the second moments of
+    their barycentric coordinates), then solved by conjugate gradients over the vertices'
+    weights: each step costs a few products per triangle, not one per sample and pose.
     """
     V = np.asarray(lod_vertices, dtype=np.float64)
     F = np.asarray(lod_faces, dtype=np.int64)
@@ -150,8 +156,9 @@ def fit_weights(lod_vertices: np.ndarray, lod_faces: np.ndarray, lod_weights: np
     P, S = len(poses), len(sample_points)
     if n == 0 or S == 0 or P == 0 or B == 0:
         return w0.copy()
-    corners = F[np.asarray(sample_faces, dtype=np.int64)]  # (S, 3)
+    tri = np.asarray(sample_faces, dtype=np.int64)
     beta = np.asarray(sample_bary, dtype=np.float64)
+    corners = F[tri]  # (S, 3)
 
     # Which bones each vertex may use: the strongest among its own weights and those of
     # the samples that land on its triangles.
@@ -166,42 +173,59 @@ def fit_weights(lod_vertices: np.ndarray, lod_faces: np.ndarray, lod_weights: np
     # U[p, c, :, j]: vertex c posed by bone bones[c, j] alone in pose p.
     vh = np.concatenate([V, np.ones((n, 1))], axis=1)
     U = np.einsum("pcjik,ck->pcij", poses[:, bones, :3, :], vh)  # (P, n, 3, m)
-    targets = np.stack([skin(sample_points, sample_weights, M) for M in poses])  # (P, S, 3)
 
     diag = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0))) or 1.0
-    data_scale = 1.0 / np.sqrt(S * P)
-    lam = smoothing * diag * np.sqrt(1.0 / n)
-    gam = diag * np.sqrt(1.0 / n)  # the weights' sum held at one
+    data = 1.0 / (S * P)
+    lam2 = (smoothing * diag) ** 2 / n
+    gam2 = diag ** 2 / n  # the weights' sum held at one
 
-    def forward(w):
-        posed = np.einsum("pcij,cj->pci", U, w)  # (P, n, 3)
-        fit = np.einsum("sk,pski->psi", beta, posed[:, corners])
-        return fit * data_scale, lam * w, gam * w.sum(axis=1)
+    # The data term, per LOD triangle with samples: the second moments of the samples'
+    # barycentric coordinates times the poses' sums of U products of its corners.
+    used, tri_of = np.unique(tri, return_inverse=True)
+    Fu = F[used]  # (T, 3)
+    moments = np.empty((len(used), 3, 3))
+    for k in range(3):
+        for l in range(3):
+            moments[:, k, l] = np.bincount(tri_of, weights=beta[:, k] * beta[:, l], minlength=len(used))
+    Uf = U[:, Fu]  # (P, T, 3 corners, 3, m)
+    blocks = np.einsum("tkl,ptkia,ptlib->tklab", moments * data, Uf, Uf, optimize=True)  # (T, 3, 3, m, m)
+    del Uf
+    # and the right-hand side: the posed source points pulled back through U.
+    targets = np.stack([skin(sample_points, sample_weights, M) for M in poses])  # (P, S, 3)
+    pulled = np.zeros((P, n, 3))
+    for k in range(3):
+        for i in range(3):
+            pulled[:, :, i] += np.stack([np.bincount(corners[:, k], weights=beta[:, k] * targets[p, :, i],
+                                                     minlength=n) for p in range(P)])
+    rhs = (np.einsum("pcij,pci->cj", U, pulled) * data + lam2 * start + gam2) * usable
 
-    def backward(r_fit, r_reg, r_sum):
-        at_vertex = np.zeros((P, n, 3))
-        for k in range(3):
-            np.add.at(at_vertex, (slice(None), corners[:, k]), r_fit * beta[None, :, k, None])
-        g = np.einsum("pcij,pci->cj", U, at_vertex) * data_scale
-        return (g + lam * r_reg + gam * r_sum[:, None]) * usable
+    corner_vertex = Fu.ravel()
+    by_vertex = np.argsort(corner_vertex, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(corner_vertex[by_vertex]) != 0])
+    reached = corner_vertex[by_vertex][starts]
 
-    rhs = (targets * data_scale, lam * start, gam * np.ones(n))
+    def apply(w):
+        """The normal equations' matrix times w (n, m), on the usable bones."""
+        per_corner = np.einsum("tklab,tlb->tka", blocks, w[Fu]).reshape(-1, m)
+        out = lam2 * w + gam2 * w.sum(axis=1, keepdims=True)
+        out[reached] += np.add.reduceat(per_corner[by_vertex], starts, axis=0)
+        return out * usable
+
     w = start.copy()
-    r = tuple(b - a for b, a in zip(rhs, forward(w)))
-    grad = backward(*r)
-    direction = grad.copy()
-    gamma = float((grad * grad).sum())
+    r = rhs - apply(w)
+    d = r.copy()
+    rr = float((r * r).sum())
+    first = rr
     for _ in range(iterations):
-        if gamma <= 1e-30:
+        if rr <= 1e-24 * first or rr == 0.0:
             break
-        q = forward(direction)
-        alpha = gamma / sum(float((x * x).sum()) for x in q)
-        w += alpha * direction
-        r = tuple(a - alpha * b for a, b in zip(r, q))
-        grad = backward(*r)
-        g2 = float((grad * grad).sum())
-        direction = grad + (g2 / gamma) * direction
-        gamma = g2
+        q = apply(d)
+        alpha = rr / float((d * q).sum())
+        w += alpha * d
+        r -= alpha * q
+        rr_new = float((r * r).sum())
+        d = r + (rr_new / rr) * d
+        rr = rr_new
 
     w = np.clip(w, 0.0, None) * usable
     total = w.sum(axis=1, keepdims=True)
