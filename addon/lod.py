@@ -141,18 +141,25 @@ def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
     return imp.skin_importance(np.asarray(group_weights)[:, cols])
 
 
-def sample_poses(obj, group_names) -> np.ndarray:
-    """(P, B, 4, 4) deform matrices of core.skinning's random sample poses of ``obj``'s
-    armature, in the mesh's own coordinates, one per deform-bone group in the order of
-    ``deform_columns``. Made from the bones' rest matrices: the scene's pose is not read
-    or touched."""
-    arm, cols = skinned_columns(obj, group_names)
+def rig_arrays(obj, arm) -> tuple:
+    """(bone names, rest matrices (B, 4, 4) in armature space, parent indices (B,),
+    the matrix taking ``obj``'s coordinates into ``arm``'s) for core.skinning."""
     bones = list(arm.data.bones)
     names = [b.name for b in bones]
     rest = np.array([np.array(b.matrix_local, dtype=np.float64) for b in bones])
     parents = np.array([names.index(b.parent.name) if b.parent is not None else -1 for b in bones])
     to_armature = np.linalg.inv(np.array(arm.matrix_world, dtype=np.float64)) @ np.array(obj.matrix_world,
                                                                                      dtype=np.float64)
+    return names, rest, parents, to_armature
+
+
+def sample_poses(obj, group_names) -> np.ndarray:
+    """(P, B, 4, 4) deform matrices of core.skinning's random sample poses of ``obj``'s
+    armature, in the mesh's own coordinates, one per deform-bone group in the order of
+    ``deform_columns``. Made from the bones' rest matrices: the scene's pose is not read
+    or touched."""
+    arm, cols = skinned_columns(obj, group_names)
+    names, rest, parents, to_armature = rig_arrays(obj, arm)
     poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents), to_armature)
     return poses[:, [names.index(group_names[c]) for c in cols]]
 

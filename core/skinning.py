@@ -50,18 +50,32 @@ def random_poses(rest_matrices: np.ndarray, parents: np.ndarray, count: int = SA
                  max_angle: float = SAMPLE_ANGLE, seed: int = 0) -> np.ndarray:
     """(count, B, 4, 4) deform matrices of random poses, in the rest matrices' space.
 
-    rest_matrices (B, 4, 4): each bone's rest frame (Blender's bone.matrix_local), parents
-    (B,) the index of each bone's parent or -1 (in any order).
     Every bone turns about its head, about a random axis of its own frame, by an angle
-    uniform in [0, max_angle] degrees, and carries its children along (forward kinematics).
-    """
+    uniform in [0, max_angle] degrees (pose_matrices)."""
+    B = len(rest_matrices)
+    rng = np.random.default_rng(seed)
+    out = np.empty((count, B, 4, 4))
+    for k in range(count):  # a loop over sample poses, a handful
+        axes = rng.normal(size=(B, 3))
+        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+        angles = np.radians(rng.uniform(0.0, max_angle, size=B))
+        out[k] = pose_matrices(rest_matrices, parents, rotations(axes, angles))
+    return out
+
+
+def pose_matrices(rest_matrices: np.ndarray, parents: np.ndarray, turns: np.ndarray) -> np.ndarray:
+    """(B, 4, 4) deform matrices (pose matrix times inverse rest matrix) of one pose.
+
+    rest_matrices (B, 4, 4): each bone's rest frame (Blender's bone.matrix_local, armature
+    space); parents (B,): each bone's parent's index or -1, in any order; turns (B, 4, 4):
+    each bone's pose in its own rest frame (Blender's pose bone matrix_basis). A bone
+    carries its children along (forward kinematics with Blender's default inheritance)."""
     rest = np.asarray(rest_matrices, dtype=np.float64)
     parents = np.asarray(parents, dtype=np.int64)
     B = len(rest)
-    rng = np.random.default_rng(seed)
     inv_rest = np.linalg.inv(rest)
-    local = rest.copy()  # a bone's rest frame in its parent's
     has_parent = parents >= 0
+    local = rest.copy()  # a bone's rest frame in its parent's
     local[has_parent] = inv_rest[parents[has_parent]] @ rest[has_parent]
     depth = np.zeros(B, dtype=np.int64)
     for _ in range(B):  # at most B rounds; a chain, not a per-element pass
@@ -69,21 +83,14 @@ def random_poses(rest_matrices: np.ndarray, parents: np.ndarray, count: int = SA
         if np.array_equal(deeper, depth):
             break
         depth = deeper
-    order = np.argsort(depth, kind="stable")  # parents before their children
-    out = np.empty((count, B, 4, 4))
-    for k in range(count):  # a loop over sample poses, a handful
-        axes = rng.normal(size=(B, 3))
-        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-        turn = _rotations(axes, np.radians(rng.uniform(0.0, max_angle, size=B)))
-        posed = np.empty((B, 4, 4))
-        for b in order.tolist():  # parents first: a chain, not a vectorisable pass (B bones)
-            frame = local[b] @ turn[b]
-            posed[b] = frame if parents[b] < 0 else posed[parents[b]] @ frame
-        out[k] = posed @ inv_rest
-    return out
+    posed = np.empty((B, 4, 4))
+    for b in np.argsort(depth, kind="stable").tolist():  # parents first: B bones, a chain
+        frame = local[b] @ turns[b]
+        posed[b] = frame if parents[b] < 0 else posed[parents[b]] @ frame
+    return posed @ inv_rest
 
 
-def _rotations(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+def rotations(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
     """(B, 4, 4) rotations by ``angles`` (radians) about unit ``axes`` (Rodrigues)."""
     x, y, z = axes.T
     c, s = np.cos(angles), np.sin(angles)

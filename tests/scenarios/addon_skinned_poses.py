@@ -66,4 +66,36 @@ def run() -> dict:
                 measure.surface_deviation(*source, *posed_triangles(lod_ob), n_samples=40_000)["mean_percent"])
     result["moved"] = min(moved)
     set_pose(rig, None)
+    result["forward_kinematics"] = forward_kinematics_check(rig, ob, lod)
     return result
+
+
+def forward_kinematics_check(rig, ob, lod) -> list:
+    """The sample poses' maths (core.skinning) against Blender's own Armature deformation,
+    with the armature moved, turned and scaled and the mesh given its own transform: the
+    largest distance between the two posed meshes, relative to the mesh's size, per pose."""
+    skinning = extension_module("addon._core").core.skinning
+    vertex_groups = extension_module("addon.vertex_groups")
+    rig.location, rig.rotation_euler, rig.scale = (0.4, -1.2, 0.3), (0.3, -0.5, 1.1), (1.7, 1.7, 1.7)
+    ob.matrix_parent_inverse = ob.matrix_parent_inverse @ mathutils_matrix((0.2, 0.1, -0.3), (0.0, 0.0, 0.4))
+    bpy.context.view_layer.update()
+    rest_v = np.array([v.co for v in ob.data.vertices], dtype=np.float64)
+    names, rest, parents, to_armature = lod.rig_arrays(ob, rig)
+    weights = vertex_groups.read_weights(ob.data, names)  # columns in the bones' order
+    out = []
+    for seed in (21, 22):
+        set_pose(rig, seed)
+        turns = np.array([np.array(rig.pose.bones[name].matrix_basis) for name in names])
+        deform = skinning.change_of_space(skinning.pose_matrices(rest, parents, turns), to_armature)
+        mw = np.array(ob.matrix_world)
+        ours = skinning.skin(rest_v, weights, deform) @ mw[:3, :3].T + mw[:3, 3]
+        blender = posed_triangles(ob)[0]
+        size = float(np.ptp(blender, axis=0).max())
+        out.append(float(np.abs(ours - blender).max()) / size)
+    set_pose(rig, None)
+    return out
+
+
+def mathutils_matrix(location, euler):
+    from mathutils import Euler, Matrix
+    return Matrix.Translation(location) @ Euler(euler).to_matrix().to_4x4()
