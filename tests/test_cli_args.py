@@ -8,6 +8,7 @@ import sys
 import pytest
 
 from addon.headless import arguments, inputs, report
+from addon.headless.errors import UsageError
 from addon.settings import LodError, LodSettings, flagged
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
@@ -197,3 +198,14 @@ def test_table_format():
     cells = lines[3].split()
     assert cells[:6] == ["rock.obj", "Rock_LOD1", "LOD1", "999", "1,000", "0.500"]
     assert lines[2].split()[4] == "-"  # LOD0 has no target
+
+
+def test_from_armature_chooses_the_sample_poses_or_the_papers_mapping():
+    assert parse("--input", "a.obj").from_armature is None
+    assert parse("--input", "a.obj", "--from-armature").from_armature == "poses"
+    assert parse("--input", "a.obj", "--from-armature", "paper").from_armature == "paper"
+    with pytest.raises(UsageError, match="invalid choice: 'bones'"):
+        parse("--input", "a.obj", "--from-armature", "bones")
+    parser = arguments.build_parser("test")
+    args = parse("--input", "a.obj", "--from-armature", "paper")
+    assert parser.parse_args(arguments.option_argv(parser, args, set())).from_armature == "paper"

@@ -153,10 +153,11 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     add_arguments(g, ["line_weight", "min_quality", "feature_angle", "remove_small_components"])
     g.add_argument("--importance-group", metavar="NAME",
                    help="vertex group painting where detail matters (weight 1 = keep most)")
-    g.add_argument("--from-armature", action="store_true",
+    g.add_argument("--from-armature", nargs="?", const="poses", choices=("poses", "paper"), metavar="poses|paper",
                    help="on skinned objects, Source Armature: the rig's sample poses count in the "
                         "error and the LOD's skin weights are fitted to them, so the LOD bends "
-                        "like the source (docs/armature.md)")
+                        "like the source (docs/armature.md); '--from-armature paper' uses the "
+                        "paper's importance from the skin weights instead")
     add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
                       *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 
@@ -236,7 +237,7 @@ def check_args(args) -> list:
 def apply_sample_defaults(args) -> None:
     """--sample implies --importance-group LOD_Importance --from-armature (unless either is given)."""
     if args.sample and args.importance_group is None and not args.from_armature:
-        args.importance_group, args.from_armature = IMPORTANCE_GROUP, True
+        args.importance_group, args.from_armature = IMPORTANCE_GROUP, "poses"
 
 
 def lod_settings(args, **overrides) -> LodSettings:

@@ -51,7 +51,7 @@ def settings_summary(args) -> dict:
     kind, chain = s.chain()
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
                **({"max_error": chain} if kind == "deviations" else {}),
-               importance_group=args.importance_group, from_armature=bool(args.from_armature),
+               importance_group=args.importance_group, from_armature=args.from_armature or False,
                lod_group=bool(args.lod_group))
     return out
 

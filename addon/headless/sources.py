@@ -49,7 +49,7 @@ def importance_choice(objects, args) -> list:
         if group and group in ob.vertex_groups:
             choices.append(('VERTEX_GROUP', group, None))
         elif args.from_armature and lod.armature_of(ob) is not None:
-            choices.append(('ARMATURE', "", None))
+            choices.append(('ARMATURE_PAPER' if args.from_armature == "paper" else 'ARMATURE', "", None))
         else:
             wanted = [w for w, on in ((f'no vertex group "{group}"', bool(group)),
                                       ("not skinned", args.from_armature)) if on]
@@ -59,5 +59,6 @@ def importance_choice(objects, args) -> list:
 
 
 def importance_label(source: str, group: str) -> str:
-    """How the report names an importance choice: NONE, ARMATURE or VERTEX_GROUP:<group>."""
+    """How the report names an importance choice: NONE, ARMATURE, ARMATURE_PAPER or
+    VERTEX_GROUP:<group>."""
     return source if source != 'VERTEX_GROUP' else f"VERTEX_GROUP:{group}"
