@@ -97,6 +97,7 @@ class State:
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
+    key_index: object = None  # (3K,) those columns of X, key by key
     key_weights: object = None  # (K,) what each key's error counts (shape_keys.key_weights)
     key_scale: float = 1.0  # offsets are in input units; positions are normalised
     tracker: object = None  # core.tracked_distance, when max_error bounds the distance
@@ -224,6 +225,7 @@ def _shape_keys(s: State, p: Problem, names, X, area):
         offsets = np.stack([X[:, c] for c in key_columns]) * s.key_scale
         key_columns = [key_columns[i] for i in shape_keys.strongest(offsets, area)]
     s.key_columns = tuple(key_columns + pose_columns)
+    s.key_index = np.concatenate([np.arange(c.start, c.stop) for c in s.key_columns])
     s.key_weights = shape_keys.key_weights(len(key_columns), len(pose_columns), p.pose_weight)
     offsets = np.stack([X[:, c] for c in s.key_columns]) * s.key_scale
     s.key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets)

@@ -105,7 +105,9 @@ def _optimal(s, keep, remove, k_keep, k_remove):
         # At each shape key's full value (and in each sample pose, core.skinning) the
         # merged vertex moves by its interpolated offset.
         t = edge_parameter(v_keep, v_remove, position)[:, None]
-        merged = np.stack([(s.X[keep, c] + t * (s.X[remove, c] - s.X[keep, c])) * s.key_scale for c in s.key_columns])
+        # Every key's columns gathered at once (k, 3K), then laid out key by key (K, k, 3).
+        x_keep, x_remove = s.X[keep[:, None], s.key_index], s.X[remove[:, None], s.key_index]
+        merged = ((x_keep + t * (x_remove - x_keep)) * s.key_scale).reshape(len(keep), -1, 3).transpose(1, 0, 2)
         error = error + shape_keys.collapse_error(s.key_quadrics, keep, remove, position, merged, s.key_weights)
     if not s.cost_per_area:
         return position, error

@@ -58,7 +58,7 @@ def collapse_error(key_quadrics: np.ndarray, keep: np.ndarray, remove: np.ndarra
     distance of each merged vertex, at ``position`` plus its interpolated offset (K, k, 3),
     to both ends' planes in that key."""
     total = np.zeros(len(keep))
-    for k in range(len(key_quadrics)):
+    for k in range(len(key_quadrics)):  # key by key: each gather stays in cache
         q = quadrics.pair_sums(key_quadrics[k], keep, remove)
         total += weights[k] * quadrics.evaluate(q, position + merged_offsets[k])
     return total

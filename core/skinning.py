@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-SAMPLE_POSES = 8  # sample poses of the rig: enough to span each joint's bending directions
+SAMPLE_POSES = 16  # sample poses of the rig (8 gave results that moved with the seed: docs/armature.md)
 SAMPLE_ANGLE = 40.0  # degrees: every bone turned by up to this, a generous range of motion
 MAX_INFLUENCES = 8  # bones a fitted LOD vertex may take weight from (engines use 4 to 8)
 
