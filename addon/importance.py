@@ -7,13 +7,14 @@ what "Importance from Armature" bakes into the LOD_Importance group so it can be
 and repainted. The Strength slider (0..1) says how much g counts, in one unit an artist
 can see: how many times denser than the rest a fully painted region comes out.
 
-How (paper Sec. 4.4.1, extreme weights). Vertex i's whole augmented quadric (planes +
-line quadric) is multiplied by the core's ``quadric_scale``
+How (paper Sec. 4.4.1, extreme weights). Vertex i's augmented quadric is multiplied by
+the core's ``quadric_scale``
     factor_i = F(strength) ** g_i,
-F(0) = 1 (importance off) up to F(1) ~ 840 (near locking). Scaling the whole quadric,
+F(0) = 1 (importance off) up to F(1) ~ 4,000 (near locking): its planes by the factor,
+its line quadric by the factor ** 0.75 (LINE_SCALE_EXPONENT, below). Scaling the error,
 not adding line weight, is what gives the slider one meaning on every surface: it
-multiplies the collapse cost by the same factor whether that cost comes from curvature
-(plane error) or, on a flat region, from the small line quadric alone. An added line
+raises the collapse cost whether that cost comes from curvature (plane error) or, on a
+flat region, from the small line quadric alone. An added line
 weight (the former "Soft" mode, w_i = 0.001 + 0.1 strength g_i) competes with the plane
 error instead: on a flat region, where the plane error is zero, it raised the cost 100x
 at strength 1 and locked a painted disc (92 % of its vertices kept at 10 %), while on a
@@ -24,8 +25,10 @@ Calibration (measured, not derived): STRENGTH_TO_GAIN is the design, the density
 each slider position should give (subtle ~1.5x at 0.1, ~4x at the default 0.5, near
 locking at 1). GAIN_TO_FACTOR is measured by bench/importance_calibration.py --sweep:
 the quadric factor that gives each gain, as the geometric mean over a flat grid and a
-curved sheet with a painted disc taken to 10 % (the two differ by at most 1.5x up to
-strength 0.75; near the top a flat region saturates into a lock sooner, 2.5x at 0.9). A strength is turned into a gain, then into a factor, by interpolating both
+curved sheet with a painted disc taken to 10 % (with the line quadric scaled by the
+factor ** 0.75 the two stay within 0.75-1.9x of each other at every factor; scaling the
+whole quadric, flat regions saturated into a lock sooner, 2.5x the curved gain at
+strength 0.9). A strength is turned into a gain, then into a factor, by interpolating both
 tables on logarithms (density follows the factor's logarithm, smoothly). Re-run the
 sweep and paste its table when the core's collapse order changes.
 
@@ -40,6 +43,13 @@ import numpy as np
 from ._core import core
 
 DEFAULT_STRENGTH = 0.5
+# The line quadric is scaled by the factor ** 0.75, the planes by the factor
+# (core.Options.line_scale_exponent). Measured on the calibration surfaces: scaling the
+# whole quadric (1) made a flat region up to 2.5x as dense as a curved one at the same
+# strength (a flat region's cost, its line quadric alone, grows more slowly with a
+# collapse's size, so the same factor buys more density there); 0.5 turned that over
+# (flat 0.4x curved); 0.75 kept them within 0.75-1.9x of each other at every factor.
+LINE_SCALE_EXPONENT = 0.75
 SKIN_CAP = core.weights.SKIN_WEIGHT_MAX  # 0.1: skin weights are baked as w / cap in [0, 1]
 # The paper's "small amount of line quadrics" before scaling (Sec. 4.4.1): a flat region
 # needs some error to scale. With Uniformity below this, importance lifts every vertex to
@@ -49,8 +59,9 @@ LINE_WEIGHT_FLOOR = core.vertex_quadrics.SCALED_LINE_WEIGHT_FLOOR
 # (strength, density gain of a fully painted region): the slider's design.
 STRENGTH_TO_GAIN = ((0.0, 1.0), (0.1, 1.5), (0.25, 2.4), (0.5, 4.5), (0.75, 12.0), (1.0, 90.0))
 # (density gain, quadric factor): measured, bench/importance_calibration.py --sweep.
-GAIN_TO_FACTOR = ((1, 1), (1.42, 1.5), (1.82, 2), (2.4, 3), (2.99, 4), (4, 6), (4.81, 8), (7.31, 12), (8.35, 16),
-                  (10.8, 24), (14.55, 32), (28.55, 64), (43.67, 128), (61, 256), (95.25, 1000))
+GAIN_TO_FACTOR = ((1, 1), (1.33, 1.5), (1.63, 2), (2.09, 3), (2.47, 4), (3.17, 6), (3.84, 8), (4.78, 12),
+                  (5.58, 16), (7.81, 24), (9.74, 32), (13.22, 64), (22.25, 128), (35.41, 256), (48.24, 512),
+                  (60.66, 1000), (78.62, 2000), (89.82, 4000), (99.67, 8000))
 
 
 # Source Armature: what the sample poses' mean error counts against the rest error
@@ -100,9 +111,10 @@ def effective(g: np.ndarray, strength: float) -> np.ndarray:
 
 
 def controls(g: np.ndarray, line_weight: float, strength: float) -> dict:
-    """Core options (quadric_scale, maybe line_weights) for importance g in [0, 1]."""
+    """Core options (quadric_scale, line_scale_exponent, maybe line_weights) for importance
+    g in [0, 1]."""
     g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
-    out = {"quadric_scale": np.power(factor(strength), g)}
+    out = {"quadric_scale": np.power(factor(strength), g), "line_scale_exponent": LINE_SCALE_EXPONENT}
     if line_weight < LINE_WEIGHT_FLOOR and np.any(out["quadric_scale"] > 1):
         out["line_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
     return out

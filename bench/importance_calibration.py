@@ -42,7 +42,8 @@ from synthetic_meshes import grid
 
 RATIO = 0.1
 CENTER, RADIUS = np.array([0.3, 0.2]), 0.35
-SWEEP_FACTORS = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0, 1000.0)
+SWEEP_FACTORS = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0, 512.0, 1000.0,
+                 2000.0, 4000.0, 8000.0)
 STRENGTHS = (0.0, 0.1, 0.25, 0.4, 0.5, 0.6, 0.75, 0.9, 1.0)
 OGRE_SHARE = 0.15  # of the vertices, nearest the top, painted 1
 
@@ -87,7 +88,7 @@ def sweep() -> None:
         for curved in (False, True):
             V, F, g = sheet(curved)
             res = core.simplify(V, F, ratio=RATIO, line_weight=core.DEFAULT_LINE_WEIGHT,
-                                quadric_scale=1.0 + (f - 1.0) * g)
+                                quadric_scale=1.0 + (f - 1.0) * g, line_scale_exponent=imp.LINE_SCALE_EXPONENT)
             in_out = kept(res, g)[2]
             base.setdefault(curved, in_out)
             gains.append(in_out / base[curved])

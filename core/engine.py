@@ -119,7 +119,7 @@ def run(p: Problem) -> list:
     heartbeat.beat()
     Q, area = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
-        feature_edges, feature_weights, p.probabilistic_sigma,
+        feature_edges, feature_weights, p.probabilistic_sigma, p.line_scale_exponent,
     )
     heartbeat.beat()
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.

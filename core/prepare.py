@@ -29,6 +29,7 @@ class Problem:
     max_error: object  # one bound per target, normalised units, or None
     line_weights: np.ndarray  # w_i of Eq. 16
     quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
+    line_scale_exponent: float  # the line quadric is scaled by quadric_scale ** this
     boundary_weight: float
     probabilistic_sigma: float
     locked: np.ndarray
@@ -74,6 +75,10 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         if n and quadric_scale.min() < 1:
             raise ValueError(f"quadric_scale must be >= 1 (found {quadric_scale.min()}): "
                              f"it multiplies the error, 1 leaves it as it is")
+    line_scale_exponent = checks.non_negative(o.line_scale_exponent, "line_scale_exponent")
+    if line_scale_exponent == 0:
+        raise ValueError("line_scale_exponent must be > 0: at 0 quadric_scale would leave the line quadric "
+                         "unscaled and a flat region uncontrollable")
     boundary_weight = checks.non_negative(o.boundary_weight, "boundary_weight")
     probabilistic_sigma = checks.non_negative(o.probabilistic_sigma, "probabilistic_sigma")
     locked = np.zeros(n, dtype=bool) if o.locked is None else checks.per_vertex(o.locked, n, "locked", dtype=bool)
@@ -171,6 +176,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         max_error=max_error,
         line_weights=line_weights,
         quadric_scale=quadric_scale,
+        line_scale_exponent=line_scale_exponent,
         boundary_weight=boundary_weight,
         probabilistic_sigma=probabilistic_sigma,
         locked=locked,

@@ -33,10 +33,13 @@ def build(
     feature_edges,
     feature_edge_weights,
     probabilistic_sigma: float = 0.0,
+    line_scale_exponent: float = 1.0,
 ) -> tuple:
     """Returns (Q (n, 10), vertex areas (n,)) for the input mesh.
 
-    line_weights: (n,) w_i of Eq. 16; quadric_scale: (n,) >= 1 or None (Sec. 4.4.1);
+    line_weights: (n,) w_i of Eq. 16; quadric_scale: (n,) >= 1 or None (Sec. 4.4.1), which
+    multiplies the planes and multiplies the line quadric by quadric_scale **
+    line_scale_exponent (1: the whole augmented quadric, as the paper);
     feature_edges: (k, 2) or None with feature_edge_weights (k,) (Eq. 19);
     probabilistic_sigma: standard deviation of the noise on the unit normals of Trettner
     & Kobbelt's probabilistic planes (dimensionless): the alternative regulariser the
@@ -56,6 +59,8 @@ def build(
     if quadric_scale is not None:
         w = np.where(quadric_scale > 1, np.maximum(w, SCALED_LINE_WEIGHT_FLOOR), w)
     line_w = np.where(has_normal, w * vertex_area, 0.0)
+    if quadric_scale is not None and line_scale_exponent != 1.0:
+        line_w = line_w * quadric_scale ** (line_scale_exponent - 1.0)  # q *= quadric_scale below
     if np.any(line_w > 0):
         q += quadrics.line_quadrics(vertex_normal, vertices, line_w)
 

@@ -11,7 +11,8 @@ flat and as a curved sheet (where the plane error, not the line quadric, sets th
   * 0.1 is a subtle preference, the default is clearly denser (>= 2x) yet soft (the disc
     still loses at least half its vertices), the top nearly locks the disc;
   * one meaning on every surface: flat and curved gains within 2x of each other below
-    the near-locking top;
+    the near-locking top (at the top, where both keep 89-97 % of the disc, the gains of a
+    near lock are ill-conditioned: 2.2x here, 1.6x on the bench's sheet);
   * on the curved sheet at the default, the disc's deviation is at most half that of the
     run without importance (the issue's "keep what works on curved meshes").
 
@@ -124,14 +125,16 @@ def test_default_halves_the_painted_deviation_on_a_curved_sheet():
 
 
 def test_expected_gain_holds_within_a_factor_of_two(runs):
-    # The slider's promise (panel: "about Nx as dense") on both surfaces, below the top
-    # where a flat region saturates into a lock faster than a curved one.
+    # The slider's promise (panel: "about Nx as dense") on both surfaces, below the top.
     for s in STRENGTHS[1:-1]:
         expected = importance.expected_gain(s)
         assert expected / 2 <= runs["strength"][s]["gain"] <= expected * 2, (s, runs["strength"][s])
 
 
 def test_one_meaning_on_flat_and_curved():
+    # With the line quadric scaled by the factor ** 0.75 (addon/importance.py) the two
+    # are within 0.75-1.3x of each other up to 0.75 (measured); scaling the whole quadric
+    # gave a flat region 1.4x the curved gain at 0.75 and 2.5x at 0.9 on the bench.
     flat, curved = measured("flat")["strength"], measured("curved")["strength"]
     for s in STRENGTHS[1:-1]:
-        assert 0.5 <= flat[s]["gain"] / curved[s]["gain"] <= 2.0, (s, flat[s], curved[s])
+        assert 0.7 <= flat[s]["gain"] / curved[s]["gain"] <= 1.5, (s, flat[s], curved[s])
