@@ -42,20 +42,9 @@ def bend(angle_deg):
     return np.stack([np.eye(4), T @ R @ Ti])
 
 
-def mean_distance(points, V, F):
-    """Mean distance from points to the mesh (V, F), brute force (small meshes)."""
-    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    best = np.full(len(points), np.inf)
-    for i in range(0, len(points), 256):
-        p = points[i:i + 256]
-        k = len(p)
-        _, d2 = closest_on_triangles(np.repeat(p, len(F), 0), np.tile(a, (k, 1)), np.tile(b, (k, 1)),
-                                     np.tile(c, (k, 1)))
-        best[i:i + k] = np.sqrt(d2.reshape(k, len(F)).min(axis=1))
-    return float(best.mean())
-
-
 def nearest_faces(points, V, F):
+    """For each point, the triangle of (V, F) nearest to it, its barycentric coordinates
+    of the closest point there and the distance: brute force (small meshes)."""
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
     tri = np.empty(len(points), np.int64)
     for i in range(0, len(points), 256):
@@ -64,8 +53,13 @@ def nearest_faces(points, V, F):
         _, d2 = closest_on_triangles(np.repeat(p, len(F), 0), np.tile(a, (k, 1)), np.tile(b, (k, 1)),
                                      np.tile(c, (k, 1)))
         tri[i:i + k] = d2.reshape(k, len(F)).argmin(axis=1)
-    bary, _ = closest_on_triangles(points, a[tri], b[tri], c[tri])
-    return tri, bary
+    bary, d2 = closest_on_triangles(points, a[tri], b[tri], c[tri])
+    return tri, bary, np.sqrt(d2)
+
+
+def mean_distance(points, V, F):
+    """Mean distance from points to the mesh (V, F)."""
+    return float(nearest_faces(points, V, F)[2].mean())
 
 
 def test_skin_is_linear_blend_and_identity_at_rest():
@@ -144,7 +138,7 @@ def test_poses_in_the_error_make_the_posed_lod_closer(bent_lods):
 def test_fitted_weights_are_closer_posed_and_leave_the_rest_shape(bent_lods):
     V, F, W, train, test, plain, _ = bent_lods
     points, weights = skinning.surface_samples(V, F, W, 6000, seed=1)
-    tri, bary = nearest_faces(points, plain.vertices, plain.faces)
+    tri, bary, _ = nearest_faces(points, plain.vertices, plain.faces)
     w0 = plain.vertex_attributes["skin"]
     fitted = skinning.fit_weights(plain.vertices, plain.faces, w0, points, weights, tri, bary, train)
     assert fitted.shape == w0.shape
