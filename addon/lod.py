@@ -477,14 +477,18 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
 
 
-SKIN_FIT_SAMPLES = 20_000  # source points the weights are fitted at (about 1 s on 2 cores)
+# Source points the weights are fitted at: 20,000, or 4 per LOD triangle on larger LODs so
+# every triangle gets some (a triangle without any leaves its corners' weights as they were).
+SKIN_FIT_SAMPLES = 20_000
+SKIN_FIT_SAMPLES_PER_TRIANGLE = 4
 
 
 def _fit_skin(lod_input: LodInput, result):
     """The LOD with its skin weights fitted to the rig's sample poses (core.skinning.fit_weights)."""
     data = lod_input.data
     skin = data.group_weights[:, lod_input.names["skin"]]
-    points, weights = core.skinning.surface_samples(data.vertices, data.faces, skin, SKIN_FIT_SAMPLES)
+    count = max(SKIN_FIT_SAMPLES, SKIN_FIT_SAMPLES_PER_TRIANGLE * len(result.faces))
+    points, weights = core.skinning.surface_samples(data.vertices, data.faces, skin, count)
     tri, bary = measure.closest_points(result.vertices, result.faces, points)
     fitted = core.skinning.fit_weights(result.vertices, result.faces, result.vertex_attributes["skin"],
                                        points, weights, tri, bary, lod_input.poses)
