@@ -66,8 +66,8 @@ GAIN_TO_FACTOR = ((1, 1), (1.33, 1.5), (1.63, 2), (2.09, 3), (2.47, 4), (3.17, 6
 
 # Source Armature: what the sample poses' mean error counts against the rest error
 # (core.Options.pose_weight) at Strength 1; the default 0.5 gives 4, measured on the Fox
-# rows of bench/figures/skinned_poses.py (docs/armature.md): 2 and 8 did no better posed,
-# 8 cost more at rest.
+# rows (bench/skinned_ablation.py, docs/armature.md): 2, 3 and 6 did no better on B and D,
+# posed or at rest.
 POSE_WEIGHT_AT_FULL_STRENGTH = 8.0
 
 

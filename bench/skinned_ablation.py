@@ -24,6 +24,7 @@ what they count (core.Options.pose_weight; the add-on's default Strength 0.5 giv
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -36,7 +37,7 @@ import core  # noqa: E402
 import skinned_poses as sp  # noqa: E402
 from addon import importance as imp  # noqa: E402
 from addon import lod  # noqa: E402
-from addon.measure import closest_points, surface_deviation  # noqa: E402
+from addon.measure import surface_deviation  # noqa: E402
 from addon.settings import LodSettings  # noqa: E402
 from fig_skinned import world_arrays  # noqa: E402
 
@@ -88,11 +89,9 @@ def posed_distance(inp, skin_w, mats, world, result, weights, samples):
     return rest, float(np.mean(posed))
 
 
-def fitted(inp, skin_w, sample, result):
-    points, weights = core.skinning.surface_samples(inp.data.vertices, inp.data.faces, skin_w, 20_000)
-    tri, bary = closest_points(result.vertices, result.faces, points)
-    return core.skinning.fit_weights(result.vertices, result.faces, result.vertex_attributes["skin"], points,
-                                     weights, tri, bary, sample)
+def fitted(inp, sample, result):
+    """The LOD's weights fitted to the sample poses, as Source Armature fits them."""
+    return lod._fit_skin(dataclasses.replace(inp, poses=sample), result).vertex_attributes["skin"]
 
 
 def oracle_options(inp, skin_w, mats, result):
@@ -138,9 +137,9 @@ def main() -> None:
         posed = run(core.Options.of(inp.core_options, pose_offsets=offsets, pose_weight=args.pose_weight))
         cells = {
             "none": posed_distance(inp, skin_w, mats, world, plain, plain.vertex_attributes["skin"], args.samples),
-            "fit": posed_distance(inp, skin_w, mats, world, plain, fitted(inp, skin_w, sample, plain), args.samples),
+            "fit": posed_distance(inp, skin_w, mats, world, plain, fitted(inp, sample, plain), args.samples),
             "poses": posed_distance(inp, skin_w, mats, world, posed, posed.vertex_attributes["skin"], args.samples),
-            "both": posed_distance(inp, skin_w, mats, world, posed, fitted(inp, skin_w, sample, posed), args.samples),
+            "both": posed_distance(inp, skin_w, mats, world, posed, fitted(inp, sample, posed), args.samples),
         }
         if args.oracle:
             density = run(oracle_options(inp, skin_w, mats, plain))
