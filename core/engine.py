@@ -94,6 +94,7 @@ class State:
     guards: object = None  # the ladder step in force
     removed_components: int = 0
     input_quality: object = None  # (input faces,) triangle quality, indexed like face_origin
+    worst_input_quality: object = None  # (n,) core.slivers.worst_input_quality, carried through collapses
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
     key_columns: tuple = ()  # slice of X holding each of those keys' offsets
@@ -149,6 +150,7 @@ def run(p: Problem) -> list:
         _shape_keys(s, p, names, X, area)
     s.input_quality = np.ones(p.input_faces)
     s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
+    s.worst_input_quality = slivers.worst_input_quality(s.F, n, s.input_quality[p.face_origin])
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
 
@@ -430,6 +432,7 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     if s.key_quadrics is not None:
         s.key_quadrics[:, keep] += s.key_quadrics[:, remove]
     s.area[keep] += s.area[remove]
+    s.worst_input_quality[keep] = np.minimum(s.worst_input_quality[keep], s.worst_input_quality[remove])
     remap = np.arange(len(s.V))
     remap[remove] = keep
     F = remap[s.F]

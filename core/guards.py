@@ -24,6 +24,11 @@ from dataclasses import dataclass, replace
 # a sliver: the default of ``min_quality`` and the threshold of every report.
 from .metrics import SLIVER_QUALITY  # noqa: E402  (defined once, beside the quality metric)
 
+# A face that already is a sliver may lose up to this share of its quality, or the
+# input's slivers would freeze their whole neighbourhood; and a face an open border
+# forces thin may be as thin as this share of the worst input face merged into it.
+SLIVER_SLACK = 0.5
+
 
 @dataclass(frozen=True)
 class Rule:
@@ -45,7 +50,8 @@ RULES = (
                          "face, or faces against a nearly flat ring", False),
     # Quality: relaxed step by step, in RELAXATION_LADDER's order.
     Rule("normal_turn", "no face turns by more than arccos(min_normal_cosine)", True),
-    Rule("sliver", "no face becomes a sliver (quality below min_quality)", True),
+    Rule("sliver", "no face becomes a sliver (quality below min_quality), but where its "
+                   "three corners lie on open borders (core.slivers)", True),
     Rule("seams", "seam vertices slide only along their seam; seam ends stay put", True),
     Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
                             "boundary, stay put (feature_angle)", True),
@@ -61,7 +67,9 @@ class Thresholds:
     min_normal_cosine: a face's new normal . old normal must be at least this (unit
       normals); 0 allows any turn short of turning over (which is a topology rule).
     min_quality: a face may not become a sliver below this quality (one that already is
-      one may lose at most half its quality); 0 turns the rule off.
+      one may lose at most half its quality, and one with its three corners on open
+      borders may go as low as half the worst input face merged into them); 0 turns the
+      rule off.
     seams: "kept" (seam ends and junctions locked, seam vertices slide along the seam),
       "slide" (ends and junctions slide along a seam edge too) or "free" (collapses may
       cross seams; the far side keeps its corner values).

@@ -20,12 +20,12 @@ import numpy as np
 
 from . import topology
 from .geometry import cross, rows
-from .guards import SLIVER_QUALITY, relaxation_ladder
+from . import slivers
+from .guards import SLIVER_QUALITY, SLIVER_SLACK, relaxation_ladder
 from .metrics import quality_from
 
 STRICT = relaxation_ladder()[0]
 MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
-SLIVER_SLACK = 0.5
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
@@ -66,8 +66,12 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
 
     source = rows(s.source_normals, s.face_origin[faces])
     guards = s.guards
+    floor = guards.min_quality
+    if floor > 0 and conn.border_vertex.any():
+        floor = slivers.border_floors(floor, s.worst_input_quality, conn.border_vertex, keep, remove,
+                                      nb_next, nb_prev, collapse)
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
-                        dying, collapse, c, source, guards.min_normal_cosine, guards.min_quality)
+                        dying, collapse, c, source, guards.min_normal_cosine, floor)
     ok &= np.bincount(collapse[bad], minlength=c) == 0
 
     if s.wedges is not None:
@@ -99,7 +103,8 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
     (k, 3) the new position of its collapse, dying (k,) faces on the collapsed edge (never
     bad), collapse (k,) which collapse the corner belongs to, source (k, 3) the unit normal
     of the input face its face descends from. min_normal_cosine and min_quality: the
-    relaxable rules' thresholds (core.guards).
+    relaxable rules' thresholds (core.guards); min_quality may be (k,), one per corner
+    (core.slivers.border_floors).
     """
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
     # the face's own cyclic order.
@@ -126,7 +131,7 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
     # Rule sliver: never turn a face into a sliver, so the output's worst triangles stay
     # up. A face that already is one may get somewhat worse (not below half its
     # quality), or the slivers of the input would freeze their whole neighbourhood.
-    if min_quality > 0:
+    if np.any(min_quality > 0):
         bc = np.einsum("ij,ij->i", p_c - p_b, p_c - p_b)
         q_new = _quality(len_new, ab_new, ac_new, bc)
         q_old = _quality(len_old, ab_old, ac_old, bc)

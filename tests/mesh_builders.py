@@ -228,15 +228,39 @@ def icosphere(level: int):
                   [8, 6, 7], [9, 8, 1]], np.int64)
     v /= np.linalg.norm(v, axis=1, keepdims=True)
     for _ in range(level):
-        e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
-        key = e[:, 0] * len(v) + e[:, 1]
-        uniq, inv = np.unique(key, return_inverse=True)
-        mid = v[uniq // len(v)] + v[uniq % len(v)]
-        mid /= np.linalg.norm(mid, axis=1, keepdims=True)
-        m = len(f)
-        a, b, c = (len(v) + inv.reshape(3, m)).astype(np.int64)  # midpoints of 01, 12, 20
-        f = np.concatenate([np.c_[f[:, 0], a, c], np.c_[a, f[:, 1], b],
-                            np.c_[c, b, f[:, 2]], np.c_[a, b, c]])
-        v = np.concatenate([v, mid])
+        v, f = subdivide(v, f)
+        v /= np.linalg.norm(v, axis=1, keepdims=True)
     return v, f
+
+
+def subdivide(v, f):
+    """1->4 midpoint subdivision: (v', f'), the old vertices first, then one midpoint per
+    edge. v may carry any columns (positions, barycentrics), all averaged."""
+    e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    key = e[:, 0] * len(v) + e[:, 1]
+    uniq, inv = np.unique(key, return_inverse=True)
+    mid = 0.5 * (v[uniq // len(v)] + v[uniq % len(v)])
+    m = len(f)
+    a, b, c = (len(v) + inv.reshape(3, m)).astype(np.int64)  # midpoints of 01, 12, 20
+    f = np.concatenate([np.c_[f[:, 0], a, c], np.c_[a, f[:, 1], b], np.c_[c, b, f[:, 2]], np.c_[a, b, c]])
+    return np.concatenate([v, mid]), f
+
+
+def thin_patches(count: int, seed: int = 0, levels: int = 2, bulge: float = 0.15):
+    """``count`` separate curved patches, each a thin triangle (sides 1 and about 0.1,
+    quality 0.1-0.2) subdivided ``levels`` times and bulged out of its plane by
+    ``bulge`` x the sum of the barycentric products (so its border curves too), turned
+    and placed at random: the patch soup a game export gives after Subdivision Surface."""
+    rng = np.random.default_rng(seed)
+    parts = []
+    for _ in range(count):
+        corners = np.array([[0.0, 0, 0], [1, 0, 0], [rng.uniform(0.2, 0.8), rng.uniform(0.06, 0.12), 0]])
+        v, f = np.c_[corners, np.eye(3)], np.array([[0, 1, 2]])
+        for _ in range(levels):
+            v, f = subdivide(v, f)
+        b = v[:, 3:]
+        lift = bulge * (b[:, 0] * b[:, 1] + b[:, 1] * b[:, 2] + b[:, 2] * b[:, 0])
+        turn = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        parts.append(((v[:, :3] + np.c_[0 * lift, 0 * lift, lift]) @ turn.T + rng.uniform(-3, 3, 3), f))
+    return components(parts)
 

@@ -8,7 +8,7 @@ import pytest
 
 import core
 from core import skinning
-from core.geometry import closest_on_triangles
+from surface_distance import mean_distance, nearest_faces
 
 
 def tube(around=32, rings=60, length=2.0, radius=0.2):
@@ -40,26 +40,6 @@ def bend(angle_deg):
     T, Ti = np.eye(4), np.eye(4)
     T[2, 3], Ti[2, 3] = 1.0, -1.0
     return np.stack([np.eye(4), T @ R @ Ti])
-
-
-def nearest_faces(points, V, F):
-    """For each point, the triangle of (V, F) nearest to it, its barycentric coordinates
-    of the closest point there and the distance: brute force (small meshes)."""
-    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    tri = np.empty(len(points), np.int64)
-    for i in range(0, len(points), 256):
-        p = points[i:i + 256]
-        k = len(p)
-        _, d2 = closest_on_triangles(np.repeat(p, len(F), 0), np.tile(a, (k, 1)), np.tile(b, (k, 1)),
-                                     np.tile(c, (k, 1)))
-        tri[i:i + k] = d2.reshape(k, len(F)).argmin(axis=1)
-    bary, d2 = closest_on_triangles(points, a[tri], b[tri], c[tri])
-    return tri, bary, np.sqrt(d2)
-
-
-def mean_distance(points, V, F):
-    """Mean distance from points to the mesh (V, F)."""
-    return float(nearest_faces(points, V, F)[2].mean())
 
 
 def test_skin_is_linear_blend_and_identity_at_rest():

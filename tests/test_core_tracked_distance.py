@@ -12,23 +12,13 @@ from core.tracked_distance import FACE_GRID, _barycentric_grid
 
 import mesh_builders as build
 import mesh_checks as check
+from surface_distance import distance_to_mesh
 
 
 def _on_triangles(vertices, faces, steps=6):
     """Points on every triangle: a barycentric grid with ``steps`` a side."""
     grid = np.array([(steps - i - j, i, j) for i in range(steps + 1) for j in range(steps + 1 - i)]) / steps
     return np.einsum("gk,fkj->fgj", grid, vertices[faces]).reshape(-1, 3)
-
-
-def _distance_to_mesh(points, vertices, faces) -> np.ndarray:
-    """(p,) distance from each point to the nearest triangle, by brute force."""
-    tri = vertices[faces]
-    best = np.full(len(points), np.inf)
-    for a, b, c in zip(tri[:, 0], tri[:, 1], tri[:, 2]):
-        k = len(points)
-        _, d2 = closest_on_triangles(points, np.tile(a, (k, 1)), np.tile(b, (k, 1)), np.tile(c, (k, 1)))
-        best = np.minimum(best, d2)
-    return np.sqrt(best)
 
 
 coordinates = st.floats(-2, 2, allow_nan=False, allow_infinity=False)
@@ -63,15 +53,15 @@ def test_lod_stays_within_max_error_both_ways(bound):
     assert len(r.faces) < 0.5 * len(F)
     # The promise, checked at the tracked points (source vertices, points in its faces)
     # and at the LOD's vertices, by brute force against the whole other mesh.
-    src_to_lod = _distance_to_mesh(_on_triangles(V, F, steps=FACE_GRID), r.vertices, r.faces).max()
-    lod_to_src = _distance_to_mesh(r.vertices, V, F).max()
+    src_to_lod = distance_to_mesh(_on_triangles(V, F, steps=FACE_GRID), r.vertices, r.faces).max()
+    lod_to_src = distance_to_mesh(r.vertices, V, F).max()
     assert src_to_lod <= bound * (1 + 1e-9), f"source to LOD {src_to_lod:.5f} > {bound}"
     assert lod_to_src <= bound * (1 + 1e-9), f"LOD to source {lod_to_src:.5f} > {bound}"
     assert r.stats.max_error <= bound * (1 + 1e-9)
     # Not needlessly careful: the LOD uses most of what it was allowed.
     assert max(src_to_lod, lod_to_src) > 0.5 * bound
     # Anywhere on the surfaces (denser points) it may stray a little beyond.
-    dense = _distance_to_mesh(_on_triangles(V, F, steps=8), r.vertices, r.faces).max()
+    dense = distance_to_mesh(_on_triangles(V, F, steps=8), r.vertices, r.faces).max()
     assert dense <= 1.5 * bound
 
 
@@ -92,7 +82,7 @@ def test_a_chain_of_bounds_gives_ever_coarser_levels_each_within_its_own():
     for level, bound in zip(levels, bounds):
         check.assert_valid_result(level, V, F)
         assert level.stats.max_error <= bound * (1 + 1e-9)
-        assert _distance_to_mesh(level.vertices, V, F).max() <= bound * (1 + 1e-9)
+        assert distance_to_mesh(level.vertices, V, F).max() <= bound * (1 + 1e-9)
     # Each level is about what a single run with its bound gives (the collapse order differs).
     alone = core.simplify(V, F, max_error=bounds[-1])
     assert 2 / 3 <= counts[-1] / len(alone.faces) <= 3 / 2, (counts, len(alone.faces))
@@ -140,6 +130,6 @@ def test_under_a_bound_no_part_is_removed_and_collapses_are_counted():
     F = np.concatenate([F1, F2 + len(V1)])
     r = core.simplify(V, F, max_error=0.02, remove_small_components=True)
     assert r.stats.removed_components == 0 and r.stats.max_error <= 0.02 * (1 + 1e-9)
-    assert _distance_to_mesh(V, r.vertices, r.faces).max() <= 0.02 * (1 + 1e-9)
+    assert distance_to_mesh(V, r.vertices, r.faces).max() <= 0.02 * (1 + 1e-9)
     assert r.stats.collapses > 0
     assert core.simplify(V1, F1, max_error=0.0).stats.collapses == 0  # (a flat part could, at no distance)
