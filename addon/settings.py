@@ -210,7 +210,8 @@ SETTINGS = (
     Setting("min_quality", core.SLIVER_QUALITY, "Min Quality",
             "No collapse makes a triangle thinner than this quality (1 = equilateral): "
             "lower it (even to 0) for hard-surface parts that need their shape more than "
-            "clean triangles. Relaxed automatically only when the target needs it",
+            "clean triangles. Thin patches between open borders may stay as thin as "
+            "the input made them. Relaxed automatically only when the target needs it",
             low=0.0, high=1.0, blender={"subtype": 'FACTOR'}, what="min triangle quality",
             flag="--min-quality",
             cli={"metavar": "Q", "help": "no collapse makes a triangle thinner than this quality, 0 to 1 (1 = "
