@@ -1,7 +1,8 @@
-"""Issue 19 § 2, what each part of Source Armature does: the Fox rows of
-bench/figures/skinned_poses.py through the core, one part at a time.
+"""Issue 19 § 2, what each part of Source Armature does: the rows of
+bench/figures/skinned_poses.py (the Fox, the procedural humanoid) through the core, one
+part at a time.
 
-    .venv/bin/python bench/skinned_ablation.py [--rows A,B,C,D] [--poses 16] [--seed 0]
+    .venv/bin/python bench/skinned_ablation.py [--rows A,B,C,D,H1,H2] [--poses 16] [--seed 0]
         [--pose-weight 4] [--oracle] [--samples 30000]
 
 Each row (skinned_poses.ROWS) is read once through the add-on's own reading
@@ -47,8 +48,7 @@ skin = core.skinning.skin
 def read_row(key, poses, seed):
     """Everything a row needs, read from Blender once."""
     row = sp.ROWS[key]
-    sp.fresh_scene()
-    fox, arm = sp.import_fox(fc.find_mesh("Fox"), row["subdivide"], row["weld"])
+    fox, arm = sp.load_row(fc.find_mesh("Fox"), row)
     if arm.animation_data is None:
         arm.animation_data_create()
     sp.rest(arm)
@@ -112,21 +112,22 @@ def oracle_options(inp, skin_w, mats, result):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--rows", default="A,B,C,D")
+    ap.add_argument("--rows", default="A,B,C,D,H1,H2")
     ap.add_argument("--poses", type=int, default=core.skinning.SAMPLE_POSES)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--pose-weight", type=float, default=imp.pose_weight(imp.DEFAULT_STRENGTH))
     ap.add_argument("--oracle", action="store_true")
     ap.add_argument("--samples", type=int, default=30_000)
     args = ap.parse_args()
+    rows = args.rows.split(",")
     if fc.find_mesh("Fox") is None:
-        print("Skipped: Fox.gltf is not in ../shared/meshes.")
-        return
+        rows = [key for key in rows if sp.ROWS[key].get("humanoid")]
+        print("Fox.gltf is not in ../shared/meshes: the humanoid's rows only.")
     print(f"{args.poses} sample poses (seed {args.seed}), pose weight {args.pose_weight:g}; "
           f"posed / rest mean distance, % of the diagonal, and over none")
     print("| row | none | fit only | poses only | both |" + (" oracle density |" if args.oracle else ""))
     print("|---|---|---|---|---|" + ("---|" if args.oracle else ""))
-    for key in args.rows.split(","):
+    for key in rows:
         inp, skin_w, sample, mats, world = read_row(key, args.poses, args.seed)
         target = inp.targets[0]
 

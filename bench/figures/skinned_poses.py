@@ -1,6 +1,6 @@
 """Issue 19 § 2: does importance from the armature make posed LODs closer? The table.
 
-    .venv/bin/python bench/figures/skinned_poses.py [--rows A,B,C,D] [--samples N] [--strength S]
+    .venv/bin/python bench/figures/skinned_poses.py [--rows A,B,C,D,H1,H2] [--samples N] [--strength S]
 
 For each row, LODs at the same triangle count through the add-on (addon.lod.generate_lods,
 every other setting the default) with
@@ -20,6 +20,10 @@ bones, clips Survey / Walk / Run):
   C  as B, 15 frames of its three clips (5 evenly spaced in each)
   D  docs/figures.md's setup (welded, then subdivided; bench/figures/fig_skinned.py), 10 %, its
      10 frames of Run and Survey
+and a second character, made here (bench/figures/humanoid.py: Skin modifier, automatic
+weights, 6,016 triangles, 19 bones):
+  H1 25 %, 5 random poses
+  H2 10 %, 5 random poses
 Random poses: every bone turned about a random axis by an angle uniform in [0, 40 deg]
 (pose-bone quaternions, seeds 101..105). Without Fox.gltf the script says so and stops.
 --sources takes further add-on importance sources by their enum name (e.g. a new
@@ -33,6 +37,7 @@ import math
 import fig_common as fc
 import tables  # in bench/, which fig_common put on sys.path
 import bpy
+import humanoid
 import numpy as np
 
 from addon import lod
@@ -150,12 +155,21 @@ ROWS = {
               poses="clips"),
     "D": dict(title="figures.md: Fox welded + subdivided, 10 %, Run and Survey (10 frames)", subdivide=True,
               weld=True, ratio=0.1, poses="fig"),
+    "H1": dict(title="procedural humanoid, 25 %, 5 random poses", humanoid=True, ratio=0.25, poses="random"),
+    "H2": dict(title="procedural humanoid, 10 %, 5 random poses", humanoid=True, ratio=0.1, poses="random"),
 }
 
 
-def run_row(path, row, samples, strength, sources):
+def load_row(path, row):
+    """(mesh, armature) of a row, in a fresh scene: the Fox (path) or the humanoid."""
     fresh_scene()
-    fox, arm = import_fox(path, row["subdivide"], row["weld"])
+    if row.get("humanoid"):
+        return humanoid.build()
+    return import_fox(path, row["subdivide"], row["weld"])
+
+
+def run_row(path, row, samples, strength, sources):
+    fox, arm = load_row(path, row)
     if arm.animation_data is None:
         arm.animation_data_create()
     objects = {}
@@ -192,15 +206,16 @@ def run_row(path, row, samples, strength, sources):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--rows", default="A,B,C,D")
+    ap.add_argument("--rows", default="A,B,C,D,H1,H2")
     ap.add_argument("--samples", type=int, default=50_000, help="distance samples per surface")
     ap.add_argument("--strength", type=float, default=0.5, help="importance strength (the add-on's default 0.5)")
     ap.add_argument("--sources", default="none,paper,poses")
     args = ap.parse_args()
     path = fc.find_mesh("Fox")
+    rows = args.rows.split(",")
     if path is None:
-        print("Skipped: Fox.gltf is not in ../shared/meshes.")
-        return
+        rows = [key for key in rows if ROWS[key].get("humanoid")]
+        print("Fox.gltf is not in ../shared/meshes: the humanoid's rows only.")
     sources = args.sources.split(",")
     assert sources[0] == "none", "the ratios are against 'none', which goes first"
     print(f"strength {args.strength}, {args.samples:,} samples per surface; mean distance, % of the diagonal")
@@ -208,7 +223,7 @@ def main() -> None:
     print(tables.header("row", "tris",
                         "posed: " + labels[0], *labels[1:], "posed ratio over none: " + " / ".join(labels[1:]),
                         "rest: " + labels[0], *labels[1:], "rest ratio over none: " + " / ".join(sources[1:])))
-    for key in args.rows.split(","):
+    for key in rows:
         row = ROWS[key]
         fc.log(f"row {key}: {row['title']}")
         r, p, tris, per_pose = run_row(path, row, args.samples, args.strength, sources)
