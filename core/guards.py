@@ -26,7 +26,7 @@ from .metrics import SLIVER_QUALITY  # noqa: E402  (defined once, beside the qua
 
 # A face that already is a sliver may lose up to this share of its quality, or the
 # input's slivers would freeze their whole neighbourhood; and a face an open border
-# forces thin may be as thin as this share of the worst input face merged into it.
+# forces thin may be as thin as this share of the worst input sliver merged into it.
 SLIVER_SLACK = 0.5
 
 
@@ -68,7 +68,7 @@ class Thresholds:
       normals); 0 allows any turn short of turning over (which is a topology rule).
     min_quality: a face may not become a sliver below this quality (one that already is
       one may lose at most half its quality, and one with its three corners on open
-      borders may go as low as half the worst input face merged into them); 0 turns the
+      borders may go as low as half the worst input sliver merged into them); 0 turns the
       rule off.
     seams: "kept" (seam ends and junctions locked, seam vertices slide along the seam),
       "slide" (ends and junctions slide along a seam edge too) or "free" (collapses may

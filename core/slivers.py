@@ -11,8 +11,8 @@ A face whose three corners all lie on open borders has the shape its border give
 no position of its corners makes a thin strip between two borders, or a thin patch
 between its own corners, any fatter. The sliver rule would hold such faces at full
 count instead, and spend the target elsewhere: on the Fox subdivided as imported (576
-separate thin patches) that doubled the LOD's mean distance (0.0211 % against 0.0093 %)
-and did not even lower its share of slivers (7.7 % against 6.3 %). So such a face may
+separate thin patches) that doubled the LOD's mean distance (0.0211 % against 0.0096 %)
+and did not even lower its share of slivers (7.7 % against 4.9 %). So such a face may
 be as thin as the rule lets an input sliver get, half the worst input sliver merged into
 its corners (``border_floors``); every other face, and every border without an input
 sliver, keeps the full floor.
