@@ -71,6 +71,9 @@ class LodInput:
     # Source Armature: the rig's sample poses (P, deform bones, 4, 4) in mesh coordinates,
     # in the order of names["skin"] (core.skinning): the LODs' weights are fitted to them.
     poses: Optional[np.ndarray] = None
+    # and further random poses, never fitted to, that coarse levels are checked in
+    # (_skinned_levels)
+    check_poses: Optional[np.ndarray] = None
     # A chain by deviation: each LOD's largest allowed measured distance, in the object's
     # own (local) units, like the mesh data;
     # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
@@ -153,14 +156,14 @@ def rig_arrays(obj, arm) -> tuple:
     return names, rest, parents, to_armature
 
 
-def sample_poses(obj, group_names) -> np.ndarray:
-    """(P, B, 4, 4) deform matrices of core.skinning's random sample poses of ``obj``'s
-    armature, in the mesh's own coordinates, one per deform-bone group in the order of
-    ``deform_columns``. Made from the bones' rest matrices: the scene's pose is not read
-    or touched."""
+def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES) -> np.ndarray:
+    """(count, B, 4, 4) deform matrices of core.skinning's random sample poses of
+    ``obj``'s armature, in the mesh's own coordinates, one per deform-bone group in the
+    order of ``deform_columns``. Made from the bones' rest matrices: the scene's pose is
+    not read or touched. The first SAMPLE_POSES are the same whatever ``count``."""
     arm, cols = skinned_columns(obj, group_names)
     names, rest, parents, to_armature = rig_arrays(obj, arm)
-    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents), to_armature)
+    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=count), to_armature)
     return poses[:, [names.index(group_names[c]) for c in cols]]
 
 
@@ -265,13 +268,14 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     if settings.deviation_chain() is not None:
         deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     g = _importance(source, settings, data.group_names, data.group_weights)
-    poses = None
+    poses = check_poses = None
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
-        poses = sample_poses(source, data.group_names)
+        every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
+        poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     options, names = _core_options(source, settings, data, g, poses)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
-                    deviations=deviations, poses=poses)
+                    deviations=deviations, poses=poses, check_poses=check_poses)
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -437,10 +441,10 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         measured = {}
     levels, reports = [], []
     diagonal = measure.bbox_diagonal(data.vertices, data.faces) if lod_input.deviations is not None else None
+    if lod_input.poses is not None:
+        results = _skinned_levels(lod_input, results, simplify, lod_input.deviations is None)
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        if lod_input.poses is not None:
-            result = _fit_skin(lod_input, result)
         levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
         entry = {
@@ -483,8 +487,41 @@ SKIN_FIT_SAMPLES = 20_000
 SKIN_FIT_SAMPLES_PER_TRIANGLE = 4
 
 
-def _fit_skin(lod_input: LodInput, result):
-    """The LOD with its skin weights fitted to the rig's sample poses (core.skinning.fit_weights)."""
+# Levels with fewer triangles than this per deform bone are checked against the same level
+# made without the poses in the error (_skinned_levels). Down there a LOD cannot spend
+# triangles on every joint, and the poses gave a coin toss: the Fox at 144 triangles (6 a
+# bone) 0.80-1.10x of no importance's posed distance over six sample seeds, a humanoid at
+# 150 (8 a bone) 0.99-1.15x, where the fitted weights alone gave 0.92-0.97x. At 32 a
+# bone and above (the Fox's and the humanoid's other rows) the poses won on every seed.
+COARSE_TRIANGLES_PER_BONE = 40
+CHECK_POSES = 16
+
+
+def _skinned_levels(lod_input: LodInput, results: list, simplify, may_remake: bool) -> list:
+    """The levels with their skin weights fitted to the sample poses (_fit_skin). A coarse
+    level (COARSE_TRIANGLES_PER_BONE) is also made without the poses in the error and
+    fitted, and of the two the one that follows the source closer in the check poses is
+    kept (``may_remake``: not for a chain by deviation, whose levels were measured)."""
+    bones = max(len(lod_input.names["skin"]), 1)
+    coarse = [may_remake and len(r.faces) < COARSE_TRIANGLES_PER_BONE * bones for r in results]
+    plain = iter(simplify([t for t, c in zip(lod_input.targets, coarse) if c], pose_offsets=None, pose_weight=0.0)
+                 if any(coarse) else [])
+    out = []
+    for result, check in zip(results, coarse):
+        fitted, gap = _fit_skin(lod_input, result, scored=check)
+        if check:
+            other, other_gap = _fit_skin(lod_input, next(plain), scored=True)
+            if other_gap < gap and len(other.faces) == len(fitted.faces):
+                fitted = other
+        out.append(fitted)
+    return out
+
+
+def _fit_skin(lod_input: LodInput, result, scored: bool = False):
+    """(the LOD with its skin weights fitted to the rig's sample poses
+    (core.skinning.fit_weights), and, if ``scored``, how far it lies from the source in
+    the check poses: the mean distance between source points and the LOD points they were
+    matched to at rest, both posed, over the check poses; else None)."""
     data = lod_input.data
     skin = data.group_weights[:, lod_input.names["skin"]]
     count = max(SKIN_FIT_SAMPLES, SKIN_FIT_SAMPLES_PER_TRIANGLE * len(result.faces))
@@ -492,7 +529,9 @@ def _fit_skin(lod_input: LodInput, result):
     tri, bary = measure.closest_points(result.vertices, result.faces, points)
     fitted = core.skinning.fit_weights(result.vertices, result.faces, result.vertex_attributes["skin"],
                                        points, weights, tri, bary, lod_input.poses)
-    return dataclasses.replace(result, vertex_attributes={**result.vertex_attributes, "skin": fitted})
+    gap = core.skinning.posed_gap(result.vertices, result.faces, fitted, points, weights, tri, bary,
+                                  lod_input.check_poses) if scored else None
+    return dataclasses.replace(result, vertex_attributes={**result.vertex_attributes, "skin": fitted}), gap
 
 
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:

@@ -2,7 +2,7 @@
 bench/figures/skinned_poses.py (the Fox, the procedural humanoid) through the core, one
 part at a time.
 
-    .venv/bin/python bench/skinned_ablation.py [--rows A,B,C,D,H1,H2] [--poses 16] [--seed 0]
+    .venv/bin/python bench/skinned_ablation.py [--rows A,B,C,D,H1,H2,H3,H4] [--poses 16] [--seed 0]
         [--pose-weight 4] [--oracle] [--samples 30000]
 
 Each row (skinned_poses.ROWS) is read once through the add-on's own reading
@@ -91,7 +91,7 @@ def posed_distance(inp, skin_w, mats, world, result, weights, samples):
 
 def fitted(inp, sample, result):
     """The LOD's weights fitted to the sample poses, as Source Armature fits them."""
-    return lod._fit_skin(dataclasses.replace(inp, poses=sample), result).vertex_attributes["skin"]
+    return lod._fit_skin(dataclasses.replace(inp, poses=sample), result)[0].vertex_attributes["skin"]
 
 
 def oracle_options(inp, skin_w, mats, result):
@@ -112,7 +112,7 @@ def oracle_options(inp, skin_w, mats, result):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--rows", default="A,B,C,D,H1,H2")
+    ap.add_argument("--rows", default="A,B,C,D,H1,H2,H3,H4")
     ap.add_argument("--poses", type=int, default=core.skinning.SAMPLE_POSES)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--pose-weight", type=float, default=imp.pose_weight(imp.DEFAULT_STRENGTH))

@@ -139,6 +139,22 @@ def surface_samples(vertices: np.ndarray, faces: np.ndarray, weights: np.ndarray
     return points, np.einsum("sk,skb->sb", bary, np.asarray(weights, dtype=np.float64)[f[face]])
 
 
+def posed_gap(lod_vertices: np.ndarray, lod_faces: np.ndarray, lod_weights: np.ndarray,
+              sample_points: np.ndarray, sample_weights: np.ndarray, sample_faces: np.ndarray,
+              sample_bary: np.ndarray, poses: np.ndarray) -> float:
+    """Mean distance, over the poses (P, B, 4, 4) and the source samples, between each
+    posed source point and the posed LOD point it stands for (the same barycentric
+    coordinates on its LOD triangle, as in fit_weights), in mesh units: how well a LOD
+    with weights (n, B) follows the source in those poses."""
+    corners = np.asarray(lod_faces, dtype=np.int64)[sample_faces]
+    total = 0.0
+    for matrices in poses:  # a loop over a handful of poses
+        posed = skin(lod_vertices, lod_weights, matrices)
+        on_lod = np.einsum("sk,skj->sj", sample_bary, posed[corners])
+        total += float(np.linalg.norm(skin(sample_points, sample_weights, matrices) - on_lod, axis=1).mean())
+    return total / max(len(poses), 1)
+
+
 def fit_weights(lod_vertices: np.ndarray, lod_faces: np.ndarray, lod_weights: np.ndarray,
                 sample_points: np.ndarray, sample_weights: np.ndarray, sample_faces: np.ndarray,
                 sample_bary: np.ndarray, poses: np.ndarray, *, smoothing: float = FIT_SMOOTHING,

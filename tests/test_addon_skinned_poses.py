@@ -22,8 +22,9 @@ def _mean(xs):
 
 
 def test_same_count_and_still_skinned(res):
-    counts = set(res["triangles"].values())
-    assert max(counts) - min(counts) <= 1
+    counts = {k: v for k, v in res["triangles"].items() if not k.endswith("_COARSE")}
+    assert max(counts.values()) - min(counts.values()) <= 1
+    assert abs(res["triangles"]["NONE_COARSE"] - res["triangles"]["ARMATURE_COARSE"]) <= 1
     assert res["parent"] == ["FINISHED"]
     assert res["modifiers"] == ["ARMATURE"]
     assert res["moved"] > 0.3  # every pose really bends the tube
@@ -38,6 +39,17 @@ def test_armature_makes_posed_lods_closer(res):
     none, ours = _mean(res["posed"]["NONE"]), _mean(res["posed"]["ARMATURE"])
     assert ours < 0.9 * none, res["posed"]
     assert res["rest"]["ARMATURE"] <= 1.2 * res["rest"]["NONE"], res["rest"]
+
+
+def test_a_coarse_level_is_no_further_posed_than_without_importance(res):
+    """At 15 triangles a bone a LOD cannot spend triangles on every joint, and the poses
+    in the error were a coin toss there (docs/armature.md); the level is checked against
+    one made without them, and the closer of the two in further random poses kept. So
+    it is no further posed than no importance, on the test's own poses, at no more than
+    the issue's rest cost."""
+    none, ours = _mean(res["posed"]["NONE_COARSE"]), _mean(res["posed"]["ARMATURE_COARSE"])
+    assert ours <= none, res["posed"]
+    assert res["rest"]["ARMATURE_COARSE"] <= 1.2 * res["rest"]["NONE_COARSE"], res["rest"]
 
 
 def test_papers_mapping_makes_posed_lods_a_little_closer(res):

@@ -128,3 +128,20 @@ def test_fitted_weights_are_closer_posed_and_leave_the_rest_shape(bent_lods):
     before = posed_error(V, F, W, plain.vertices, plain.faces, w0, test)
     after = posed_error(V, F, W, plain.vertices, plain.faces, fitted, test)
     assert after < 0.99 * before, (after, before)  # measured 0.973x on this tube
+
+
+def test_posed_gap_ranks_weights_as_the_posed_distance_does(bent_lods):
+    """posed_gap, what Source Armature checks a coarse level with: at rest, the mean
+    distance from the source points to the LOD points they were matched to; in poses the
+    fitted weights score lower than the interpolated ones, as they measure closer."""
+    V, F, W, train, test, plain, _ = bent_lods
+    points, weights = skinning.surface_samples(V, F, W, 6000, seed=1)
+    tri, bary, distance = nearest_faces(points, plain.vertices, plain.faces)
+    w0 = plain.vertex_attributes["skin"]
+    at_rest = skinning.posed_gap(plain.vertices, plain.faces, w0, points, weights, tri, bary, np.stack([bend(0)]))
+    assert np.isclose(at_rest, distance.mean())
+    fitted = skinning.fit_weights(plain.vertices, plain.faces, w0, points, weights, tri, bary, train)
+    gap = [skinning.posed_gap(plain.vertices, plain.faces, w, points, weights, tri, bary, np.stack(test))
+           for w in (w0, fitted)]
+    measured = [posed_error(V, F, W, plain.vertices, plain.faces, w, test) for w in (w0, fitted)]
+    assert (gap[1] < gap[0]) == (measured[1] < measured[0]) and gap[1] < gap[0], (gap, measured)

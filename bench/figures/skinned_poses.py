@@ -1,6 +1,6 @@
 """Issue 19 § 2: does importance from the armature make posed LODs closer? The table.
 
-    .venv/bin/python bench/figures/skinned_poses.py [--rows A,B,C,D,H1,H2] [--samples N] [--strength S]
+    .venv/bin/python bench/figures/skinned_poses.py [--rows A,B,C,D,H1,H2,H3,H4] [--samples N] [--strength S]
 
 For each row, LODs at the same triangle count through the add-on (addon.lod.generate_lods,
 every other setting the default) with
@@ -24,6 +24,8 @@ and a second character, made here (bench/figures/humanoid.py: Skin modifier, aut
 weights, 6,016 triangles, 19 bones):
   H1 25 %, 5 random poses
   H2 10 %, 5 random poses
+  H3, H4  the same at Subdivision level 1 (1,504 triangles), 25 % and 10 %: 20 and 8
+          triangles a bone, where the poses need checking (addon/lod.py)
 Random poses: every bone turned about a random axis by an angle uniform in [0, 40 deg]
 (pose-bone quaternions, seeds 101..105). Without Fox.gltf the script says so and stops.
 --sources takes further add-on importance sources by their enum name (e.g. a new
@@ -157,6 +159,10 @@ ROWS = {
               weld=True, ratio=0.1, poses="fig"),
     "H1": dict(title="procedural humanoid, 25 %, 5 random poses", humanoid=True, ratio=0.25, poses="random"),
     "H2": dict(title="procedural humanoid, 10 %, 5 random poses", humanoid=True, ratio=0.1, poses="random"),
+    "H3": dict(title="procedural humanoid at level 1 (1,504 triangles), 25 %, 5 random poses", humanoid=True,
+               subdivision=1, ratio=0.25, poses="random"),
+    "H4": dict(title="procedural humanoid at level 1, 10 %, 5 random poses", humanoid=True, subdivision=1,
+               ratio=0.1, poses="random"),
 }
 
 
@@ -164,7 +170,7 @@ def load_row(path, row):
     """(mesh, armature) of a row, in a fresh scene: the Fox (path) or the humanoid."""
     fresh_scene()
     if row.get("humanoid"):
-        return humanoid.build()
+        return humanoid.build(row.get("subdivision", 2))
     return import_fox(path, row["subdivide"], row["weld"])
 
 
@@ -206,7 +212,7 @@ def run_row(path, row, samples, strength, sources):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--rows", default="A,B,C,D,H1,H2")
+    ap.add_argument("--rows", default="A,B,C,D,H1,H2,H3,H4")
     ap.add_argument("--samples", type=int, default=50_000, help="distance samples per surface")
     ap.add_argument("--strength", type=float, default=0.5, help="importance strength (the add-on's default 0.5)")
     ap.add_argument("--sources", default="none,paper,poses")
