@@ -442,7 +442,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     levels, reports = [], []
     diagonal = measure.bbox_diagonal(data.vertices, data.faces) if lod_input.deviations is not None else None
     if lod_input.poses is not None:
-        results = _skinned_levels(lod_input, results, simplify, lod_input.deviations is None)
+        results = _skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
+                                  lambda: report_progress(simplify_share))
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
         levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
@@ -497,17 +498,19 @@ COARSE_TRIANGLES_PER_BONE = 40
 CHECK_POSES = 16
 
 
-def _skinned_levels(lod_input: LodInput, results: list, simplify, may_remake: bool) -> list:
+def _skinned_levels(lod_input: LodInput, results: list, simplify, may_remake: bool, tick) -> list:
     """The levels with their skin weights fitted to the sample poses (_fit_skin). A coarse
     level (COARSE_TRIANGLES_PER_BONE) is also made without the poses in the error and
     fitted, and of the two the one that follows the source closer in the check poses is
-    kept (``may_remake``: not for a chain by deviation, whose levels were measured)."""
+    kept (``may_remake``: not for a chain by deviation, whose levels were measured).
+    ``tick()`` before each level's fit lets Esc in between."""
     bones = max(len(lod_input.names["skin"]), 1)
     coarse = [may_remake and len(r.faces) < COARSE_TRIANGLES_PER_BONE * bones for r in results]
     plain = iter(simplify([t for t, c in zip(lod_input.targets, coarse) if c], pose_offsets=None, pose_weight=0.0)
                  if any(coarse) else [])
     out = []
     for result, check in zip(results, coarse):
+        tick()
         fitted, gap = _fit_skin(lod_input, result, scored=check)
         if check:
             other, other_gap = _fit_skin(lod_input, next(plain), scored=True)
