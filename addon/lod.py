@@ -156,14 +156,15 @@ def rig_arrays(obj, arm) -> tuple:
     return names, rest, parents, to_armature
 
 
-def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES) -> np.ndarray:
+def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES, seed: int = 0) -> np.ndarray:
     """(count, B, 4, 4) deform matrices of core.skinning's random sample poses of
     ``obj``'s armature, in the mesh's own coordinates, one per deform-bone group in the
     order of ``deform_columns``. Made from the bones' rest matrices: the scene's pose is
     not read or touched. The first SAMPLE_POSES are the same whatever ``count``."""
     arm, cols = skinned_columns(obj, group_names)
     names, rest, parents, to_armature = rig_arrays(obj, arm)
-    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=count), to_armature)
+    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=count, seed=seed),
+                                          to_armature)
     return poses[:, [names.index(group_names[c]) for c in cols]]
 
 

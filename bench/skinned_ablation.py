@@ -53,11 +53,9 @@ def read_row(key, poses, seed):
         arm.animation_data_create()
     sp.rest(arm)
     inp = lod.prepare(bpy.context.scene, fox, LodSettings(ratio=row["ratio"], levels=1, measure_deviation=False))
-    bones = [inp.data.group_names[c] for c in inp.names["skin"]]
+    sample = lod.sample_poses(fox, inp.data.group_names, poses, seed)
     names, rest, parents, to_armature = lod.rig_arrays(fox, arm)
-    columns = [names.index(b) for b in bones]
-    sample = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=poses, seed=seed),
-                                           to_armature)[:, columns]
+    columns = [names.index(inp.data.group_names[c]) for c in inp.names["skin"]]
     evaluation = {"random": sp.random_poses(arm, sp.RANDOM_POSES), "clips": sp.clip_poses(arm, sp.clip_frames(5)),
                   "fig": sp.clip_poses(arm, sp.FIG_POSES)}[row["poses"]]
     world = np.array(fox.matrix_world)
