@@ -487,6 +487,10 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
     vertices = np.where(s.moved[kept, None], s.V[kept] * p.scale + p.center, p.input_positions[kept])
     faces = new_index[s.F if face_order is None else s.F[face_order]]
     face_origin = s.face_origin.copy() if face_order is None else s.face_origin[face_order]
+    # Faces core.orientation turned over for the run get their input winding back.
+    turned = None if p.flipped_origin is None else p.flipped_origin[face_origin]
+    if turned is not None:
+        faces[turned] = faces[turned][:, [0, 2, 1]]
     vattrs = {}
     col = 0
     for name in names:
@@ -501,6 +505,9 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
     cattrs = s.wedges.corner_values() if s.wedges is not None else {}
     if face_order is not None:
         cattrs = {k: a[face_order] for k, a in cattrs.items()}
+    if turned is not None:
+        for values in cattrs.values():
+            values[turned] = values[turned][:, [0, 2, 1]]
     stats = SimplifyStats(
         input_vertices=p.input_vertices,
         input_faces=p.input_faces,

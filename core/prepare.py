@@ -12,7 +12,7 @@ from typing import Optional
 
 import numpy as np
 
-from . import checks
+from . import checks, orientation
 from .options import Options
 from .weld import weld_map
 from . import locality
@@ -54,6 +54,7 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
+    flipped_origin: object = None  # (input faces,) bool: turned over by core.orientation, or None
     renumbered: bool = False  # vertices and faces in core.locality's order, not the input's
 
 
@@ -159,6 +160,17 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     if m:
         keep &= _first_copies(np.sort(fw, axis=1), n)
     face_origin = np.flatnonzero(keep)
+    faces_kept = fw[keep]
+    cattrs = {k: a[keep] for k, a in cattrs.items()}
+    # Parts wound inconsistently are made consistent for the run (core.orientation);
+    # the LOD's faces get their input winding back (engine._snapshot).
+    flipped_origin = None
+    flip = orientation.faces_to_flip(vn, faces_kept)
+    if flip.any():
+        faces_kept[flip] = faces_kept[flip][:, [0, 2, 1]]
+        cattrs = {k: _swap_corners(a, flip) for k, a in cattrs.items()}
+        flipped_origin = np.zeros(m, dtype=bool)
+        flipped_origin[face_origin[flip]] = True
     # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
         locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
@@ -169,7 +181,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     return locality.reorder(Problem(
         vertices=vn,
         input_positions=v,
-        faces=fw[keep],
+        faces=faces_kept,
         face_origin=face_origin,
         vertex_origin=np.arange(n),
         targets=tgt,
@@ -184,7 +196,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         seed=int(seed),
         vertex_attributes=vattrs,
         normalize_attributes=normalize,
-        corner_attributes={k: a[keep] for k, a in cattrs.items()},
+        corner_attributes=cattrs,
         uv_attributes=uvs,
         preserve_seams=bool(o.preserve_seams),
         feature_edges=rep[fe] if len(fe) else fe,
@@ -201,7 +213,16 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_vertices=n,
         input_faces=m,
         welded=welded,
+        flipped_origin=flipped_origin,
     ))
+
+
+def _swap_corners(values: np.ndarray, flip: np.ndarray) -> np.ndarray:
+    """Corner values (m, 3, k) with corners 1 and 2 swapped on the faces ``flip``: a face
+    turned over as (a, c, b) keeps each value on its vertex."""
+    values = values.copy()
+    values[flip] = values[flip][:, [0, 2, 1]]
+    return values
 
 
 def _first_copies(sorted_faces: np.ndarray, n: int) -> np.ndarray:
