@@ -14,12 +14,19 @@ from .geometry import face_frames
 from .topology import connected_labels
 
 
+def vertex_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(n,) int64: a label per vertex, equal for the vertices of one part (faces sharing
+    vertices); an unused vertex is a part of its own."""
+    if len(faces) == 0:
+        return np.arange(n_vertices, dtype=np.int64)
+    return connected_labels(n_vertices, np.r_[faces[:, 0], faces[:, 1]], np.r_[faces[:, 1], faces[:, 2]])
+
+
 def face_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """(m,) int64: a label per face, equal for faces of one part (sharing vertices)."""
     if len(faces) == 0:
         return np.zeros(0, dtype=np.int64)
-    vertex_label = connected_labels(n_vertices, np.r_[faces[:, 0], faces[:, 1]], np.r_[faces[:, 1], faces[:, 2]])
-    return vertex_label[faces[:, 0]]
+    return vertex_labels(faces, n_vertices)[faces[:, 0]]
 
 
 def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int):

@@ -93,7 +93,7 @@ class State:
     ladder: tuple = ()  # core.guards.relaxation_ladder of this run
     guards: object = None  # the ladder step in force
     removed_components: int = 0
-    input_quality: object = None  # (input faces,) triangle quality, indexed like face_origin
+    input_quality: object = None  # (run faces,) triangle quality, indexed like face_origin
     worst_input_quality: object = None  # (n,) core.slivers.worst_input_quality, carried through collapses
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
@@ -113,7 +113,8 @@ def run(p: Problem) -> list:
     heartbeat = Heartbeat(p.progress)
     n = len(p.vertices)
     F = p.faces
-    conn = topology.build(F, n)
+    conn = topology.build(F, n) if p.connectivity is None else p.connectivity
+    p.connectivity = None
     heartbeat.beat()
     face_normals, face_areas = face_frames(p.vertices, F)
     feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
@@ -144,12 +145,15 @@ def run(p: Problem) -> list:
     s.heartbeat = heartbeat
     if p.max_error is not None:
         s.max_error = p.max_error[0]
-        s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.input_faces)
+        s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.run_faces)
         s.far_rejected = np.zeros(len(conn.edges), dtype=bool)
     if p.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
-    s.input_quality = np.ones(p.input_faces)
-    s.input_quality[p.face_origin] = triangle_quality(s.V, s.F)
+    s.input_quality = np.ones(p.run_faces)
+    # A face core.stitching split is judged by the face it was split from: the fan's thin
+    # triangles are no sliver of the input's, nor are their normals (nearly degenerate) a
+    # reference for rule no_turn_over.
+    s.input_quality[p.face_origin] = triangle_quality(s.V, s.F if p.unsplit_faces is None else p.unsplit_faces)
     s.worst_input_quality = slivers.worst_input_quality(s.F, n, s.input_quality[p.face_origin])
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
@@ -310,8 +314,8 @@ def _features(p: Problem, conn, face_normals, face_areas) -> tuple:
 
 def _source_normals(p: Problem, face_normals) -> np.ndarray:
     """Unit normals of the input faces, indexed like face_origin."""
-    normals = np.zeros((p.input_faces, 3))
-    normals[p.face_origin] = face_normals
+    normals = np.zeros((p.run_faces, 3))
+    normals[p.face_origin] = face_normals if p.unsplit_faces is None else face_frames(p.vertices, p.unsplit_faces)[0]
     return normals
 
 
@@ -510,6 +514,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
     turned = None if p.flipped_origin is None else p.flipped_origin[face_origin]
     if turned is not None:
         faces[turned] = faces[turned][:, [0, 2, 1]]
+    if p.face_source is not None:  # faces core.stitching split descend from the face they split
+        face_origin = p.face_source[face_origin]
     vattrs = {}
     col = 0
     for name in names:

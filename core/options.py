@@ -92,6 +92,11 @@ class Options:
         alike; 0 leaves the poses out).
       weld_distance: weld vertices closer than this before simplifying (split vertices of
         exported assets); None welds only exactly coincident ones, a negative value none.
+      stitch_cracks: close T-junction cracks before simplifying (core.stitching): a
+        border vertex on another border's edge (within 1 % of the edge's length and 0.1 %
+        of the mesh's size) is inserted into that edge, so the two sides of a seam that an
+        exporter tessellated apart share their edges. The faces this splits come back
+        with the face_origin of the face they split.
     """
 
     max_error: Union[float, Sequence[float], None] = None
@@ -111,6 +116,7 @@ class Options:
     feature_weight: float = 1.0
     edge_weights: Any = None
     weld_distance: Optional[float] = None
+    stitch_cracks: bool = True
     probabilistic_sigma: float = 0.0
     feature_angle: Optional[float] = DEFAULT_FEATURE_ANGLE
     min_quality: float = SLIVER_QUALITY

@@ -12,7 +12,7 @@ from typing import Optional
 
 import numpy as np
 
-from . import checks, orientation
+from . import checks, orientation, stitching, topology
 from .options import Options
 from .weld import weld_map
 from . import locality
@@ -54,7 +54,11 @@ class Problem:
     input_vertices: int
     input_faces: int
     welded: int = 0
-    flipped_origin: object = None  # (input faces,) bool: turned over by core.orientation, or None
+    flipped_origin: object = None  # (run faces,) bool: turned over by core.orientation, or None
+    run_faces: int = 0  # face ids of the run (face_origin's range): input_faces unless stitched
+    face_source: object = None  # (run faces,) the input face of each run face id, or None: the same
+    unsplit_faces: object = None  # (run faces, 3) the face each run face was split from, or None
+    connectivity: object = None  # topology.build of ``faces`` when prepare had it (engine.run reuses it)
     renumbered: bool = False  # vertices and faces in core.locality's order, not the input's
 
 
@@ -162,15 +166,32 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     face_origin = np.flatnonzero(keep)
     faces_kept = fw[keep]
     cattrs = {k: a[keep] for k, a in cattrs.items()}
+    conn = topology.build(faces_kept, n) if len(faces_kept) else None
+    # T-junction cracks of exported tessellations closed (core.stitching); the faces a
+    # split makes are new run face ids that map back to the face they split.
+    run_faces, face_source, unsplit_faces = m, None, None
+    stitched = stitching.stitch(vn, faces_kept, conn) if o.stitch_cracks and conn is not None else None
+    if stitched is not None:
+        unsplit = faces_kept
+        faces_kept, parent, weights = stitched
+        unsplit_faces = unsplit[parent]
+        cattrs = {k: np.einsum("fij,fjk->fik", weights, a[parent]) for k, a in cattrs.items()}
+        face_source = face_origin[parent]
+        face_origin = np.arange(len(faces_kept))
+        run_faces = len(faces_kept)
+        conn = topology.build(faces_kept, n)
     # Parts wound inconsistently are made consistent for the run (core.orientation);
     # the LOD's faces get their input winding back (engine._snapshot).
     flipped_origin = None
-    flip = orientation.faces_to_flip(vn, faces_kept)
+    flip = orientation.faces_to_flip(vn, faces_kept, conn) if conn is not None else np.zeros(0, dtype=bool)
     if flip.any():
         faces_kept[flip] = faces_kept[flip][:, [0, 2, 1]]
+        if unsplit_faces is not None:
+            unsplit_faces[flip] = unsplit_faces[flip][:, [0, 2, 1]]
         cattrs = {k: _swap_corners(a, flip) for k, a in cattrs.items()}
-        flipped_origin = np.zeros(m, dtype=bool)
+        flipped_origin = np.zeros(run_faces, dtype=bool)
         flipped_origin[face_origin[flip]] = True
+        conn = None  # its half-edges are those of the faces before turning
     # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
         locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
@@ -214,6 +235,10 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_faces=m,
         welded=welded,
         flipped_origin=flipped_origin,
+        run_faces=run_faces,
+        face_source=face_source,
+        unsplit_faces=unsplit_faces,
+        connectivity=conn,
     ))
 
 

@@ -1,0 +1,247 @@
+"""Closing T-junction cracks: border vertices that lie on another border's edge split it.
+
+CAD exporters tessellate each face of a solid on its own, so where two faces meet their
+shared curve is cut at different points on either side: after welding the coincident
+ends, the seam is a slit of zero width, two border chains on one curve (T-junctions).
+On the largest part of the 2CylinderEngine sample 86 % of the 2,172 border vertices lie
+within 1e-4 of the part's size from a border edge of the other side (median 1.5e-6).
+Each chain can then only slide along itself (rule boundaries_stay), the slit's ends are
+border corners, and a LOD stops far above its target (1,144 faces for 922) or opens the
+slits into holes.
+
+The repair (cf. MeshLab's "snap mismatched borders", Botsch et al., Polygon Mesh
+Processing, Sec. 3.4 on gaps and T-junctions): every border vertex within a small
+distance of a border edge of its own part (the parts joined by shared vertices, which the
+exact weld gives every face of one exported solid) that it is not on, strictly between
+the edge's ends, is inserted
+into that edge: the edge's face (a, b, c) becomes the fan (a, p1, c), (p1, p2, c), ...,
+(pk, b, c) over the points in order along a -> b. With both chains' vertices in both
+sides' edges the two sides share every edge and the slit is an ordinary interior seam.
+Vertices are not moved: a point of a curved seam sits off the other side's chord by the
+chord's sagitta, a fraction of the tolerance.
+
+The new faces descend from the face they split (engine._snapshot gives them its index);
+their corner values are interpolated along the split edge.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import components, topology
+from .geometry import face_frames
+
+# A border vertex joins a border edge when it is this close to it, relative to the
+# edge's length (a chord's sagitta is length^2 / 8r: up to 1 % means a curve sampled at
+# up to about 9 degrees a segment) ...
+RELATIVE_TOLERANCE = 1e-2
+# ... and no farther than this, in units of the mesh's bounding-box diagonal: separate
+# parts that only come close are left alone.
+ABSOLUTE_TOLERANCE = 1e-3
+# Inserted points must lie strictly inside the edge (an end is a weld, not a split).
+END_MARGIN = 1e-6
+# Splitting rounds: a face with several split edges has one split per round.
+ROUNDS = 3
+
+
+def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
+    """(faces (m', 3), parent (m',), split) with T-junction cracks closed.
+
+    vertices (n, 3) in normalised units (unit diagonal), faces (m, 3) int64 without
+    degenerate or duplicate rows. parent: the row of ``faces`` each output face comes
+    from; split: (m',) float (m', 3) the position of each output corner along the
+    parent's corners as barycentric weights (for interpolating corner values). Returns
+    None when nothing is to be stitched (the common case). conn: ``topology.build(faces,
+    n)`` if the caller has it."""
+    n = len(vertices)
+    part = components.vertex_labels(faces, n)
+    parent = np.arange(len(faces))
+    weights = None
+    current = faces
+    for _ in range(ROUNDS):
+        splits = _border_splits(vertices, current, n, part, conn)
+        conn = None
+        if splits is None:
+            break
+        before = current
+        current, step_parent, step_weights = _split_faces(current, *splits)
+        current, step_parent, step_weights = _undo_bad_splits(vertices, before, current, step_parent, step_weights, n)
+        if len(current) == len(before):
+            break
+        # Compose with the earlier rounds: weights over the original corners.
+        w_prev = np.broadcast_to(np.eye(3), (len(parent), 3, 3)) if weights is None else weights
+        weights = np.einsum("fij,fjk->fik", step_weights, w_prev[step_parent])
+        parent = parent[step_parent]
+    if weights is None:
+        return None
+    return current, parent, weights
+
+
+def _border_splits(V, F, n, part, conn=None):
+    """(face, corner, vertex, t) of every split: border half-edge ``corner`` (flat index
+    3 f + s, from F[f, s] to the next corner) gets ``vertex`` at parameter t; or None."""
+    conn = topology.build(F, n) if conn is None else conn
+    border = np.flatnonzero(conn.edge_faces == 1)
+    if len(border) == 0:
+        return None
+    he = conn.edge_he0[border]
+    flat = F.ravel()
+    a = flat[he]
+    b = flat[topology.next_corner(he)]
+    c = flat[topology.previous_corner(he)]
+    points = np.unique(np.concatenate([a, b]))
+    edge_i, point_i = _near_pairs(V, a, b, points)
+    if len(edge_i) == 0:
+        return None
+    v = points[point_i]
+    pa, pb, pv = V[a[edge_i]], V[b[edge_i]], V[v]
+    d = pb - pa
+    length2 = np.einsum("ij,ij->i", d, d)
+    t = np.einsum("ij,ij->i", pv - pa, d) / np.maximum(length2, 1e-300)
+    dist = np.linalg.norm(pa + t[:, None] * d - pv, axis=1)
+    tol = np.minimum(RELATIVE_TOLERANCE * np.sqrt(length2), ABSOLUTE_TOLERANCE)
+    ok = (dist <= tol) & (t > END_MARGIN) & (t < 1 - END_MARGIN)
+    ok &= (v != a[edge_i]) & (v != b[edge_i]) & (v != c[edge_i])
+    # Cracks are within one part's surface: separate parts that touch stay separate.
+    ok &= part[v] == part[a[edge_i]]
+    edge_i, v, t, dist = edge_i[ok], v[ok], t[ok], dist[ok]
+    if len(edge_i) == 0:
+        return None
+    # A vertex goes into its nearest edge only.
+    order = np.lexsort((dist, v))
+    first = np.concatenate([[True], v[order][1:] != v[order][:-1]])
+    pick = order[first]
+    edge_i, v, t = edge_i[pick], v[pick], t[pick]
+    # One split edge per face and round (a face's other edges wait for the next round).
+    f = he[edge_i] // 3
+    face_first = np.zeros(len(F), dtype=np.int64) - 1
+    np.maximum.at(face_first, f, he[edge_i])  # any one border half-edge of the face
+    keep = he[edge_i] == face_first[f]
+    return he[edge_i][keep], v[keep], t[keep]
+
+
+def _near_pairs(V, a, b, points):
+    """(edge, point) index pairs whose point may lie within tolerance of the edge a-b:
+    points hashed to a grid, edges sampled along their length at half a cell, each
+    sample looking in the 27 cells around it. Exact distances are the caller's."""
+    pa, pb = V[a], V[b]
+    length = np.linalg.norm(pb - pa, axis=1)
+    cell = max(float(np.median(length)), 1e-9)
+    samples = np.ceil(length / (0.5 * cell)).astype(np.int64) + 1
+    edge_of = np.repeat(np.arange(len(a)), samples)
+    start = np.cumsum(samples) - samples
+    t = (np.arange(len(edge_of)) - start[edge_of]) / np.maximum(samples[edge_of] - 1, 1)
+    sample_pos = pa[edge_of] + t[:, None] * (pb - pa)[edge_of]
+    lo = np.minimum(sample_pos.min(axis=0), V[points].min(axis=0))
+    sample_cell = np.floor((sample_pos - lo) / cell).astype(np.int64) + 1
+    point_cell = np.floor((V[points] - lo) / cell).astype(np.int64) + 1
+    extent = np.maximum(sample_cell.max(axis=0), point_cell.max(axis=0)) + 2
+    stride = np.array([1, extent[0], extent[0] * extent[1]], dtype=np.int64)
+    point_key = point_cell @ stride
+    by_key = np.argsort(point_key, kind="stable")
+    sorted_keys = point_key[by_key]
+    offsets = (np.stack(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1], indexing="ij"), -1).reshape(-1, 3)
+               @ stride)
+    edges_out, points_out = [], []
+    sample_key = sample_cell @ stride
+    for off in offsets:
+        key = sample_key + off
+        lo_i = np.searchsorted(sorted_keys, key, side="left")
+        hi_i = np.searchsorted(sorted_keys, key, side="right")
+        count = hi_i - lo_i
+        has = np.flatnonzero(count)
+        if len(has) == 0:
+            continue
+        rep = np.repeat(has, count[has])
+        pos = np.arange(len(rep)) - np.repeat(np.cumsum(count[has]) - count[has], count[has])
+        edges_out.append(edge_of[rep])
+        points_out.append(by_key[lo_i[rep] + pos])
+    if not edges_out:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    pairs = np.unique(np.stack([np.concatenate(edges_out), np.concatenate(points_out)], axis=1), axis=0)
+    return pairs[:, 0], pairs[:, 1]
+
+
+def _split_faces(F, corner, vertex, t):
+    """Faces with the split half-edges fanned out. corner: flat half-edge index per
+    inserted point (several points may share one), vertex: the point, t: its parameter.
+    Returns (faces, parent row, (m', 3, 3) barycentric weights of each new corner over
+    the parent's corners)."""
+    m = len(F)
+    order = np.lexsort((t, corner))
+    corner, vertex, t = corner[order], vertex[order], t[order]
+    face = corner // 3
+    side = corner % 3
+    split_faces, first_of = np.unique(face, return_index=True)
+    count = np.diff(np.append(first_of, len(face)))
+    # Each split face becomes count + 1 faces: consecutive pairs of [a, p1..pk, b], with c.
+    a_side = side[first_of]
+    fs = split_faces
+    a = F[fs, a_side]
+    b = F[fs, (a_side + 1) % 3]
+    c = F[fs, (a_side + 2) % 3]
+    chain_len = count + 2
+    chain_start = np.cumsum(chain_len) - chain_len
+    chain = np.empty(int(chain_len.sum()), dtype=np.int64)
+    chain_t = np.empty(len(chain))
+    chain[chain_start] = a
+    chain_t[chain_start] = 0.0
+    chain[chain_start + chain_len - 1] = b
+    chain_t[chain_start + chain_len - 1] = 1.0
+    inner = np.repeat(chain_start, count) + 1 + (np.arange(len(vertex)) - np.repeat(first_of, count))
+    chain[inner] = vertex
+    chain_t[inner] = t
+    group = np.repeat(np.arange(len(fs)), chain_len)
+    pair_first = np.flatnonzero(np.diff(group) == 0)  # every position with a successor in its chain
+    g = group[pair_first]
+    new_faces = np.stack([chain[pair_first], chain[pair_first + 1], c[g]], axis=1)
+    # Keep the parent's corner order: (a, b, c) sits at sides (s, s+1, s+2).
+    s0 = a_side[g]
+    rolled = np.empty_like(new_faces)
+    rows_ = np.arange(len(g))
+    for k in range(3):
+        rolled[rows_, (s0 + k) % 3] = new_faces[:, k]
+    w = np.zeros((len(g), 3, 3))
+    t0, t1 = chain_t[pair_first], chain_t[pair_first + 1]
+    w[rows_, s0, s0] = 1 - t0
+    w[rows_, s0, (s0 + 1) % 3] = t0
+    w[rows_, (s0 + 1) % 3, s0] = 1 - t1
+    w[rows_, (s0 + 1) % 3, (s0 + 1) % 3] = t1
+    w[rows_, (s0 + 2) % 3, (s0 + 2) % 3] = 1.0
+    untouched = np.ones(m, dtype=bool)
+    untouched[fs] = False
+    keep_rows = np.flatnonzero(untouched)
+    faces = np.concatenate([F[keep_rows], rolled])
+    parent = np.concatenate([keep_rows, fs[g]])
+    weights = np.concatenate([np.broadcast_to(np.eye(3), (len(keep_rows), 3, 3)), w])
+    return faces, parent, weights
+
+
+def _undo_bad_splits(V, before, faces, parent, weights, n):
+    """The split faces back as they were where a split went wrong:
+    - a new face turned against the face it was split from (a point beside a thin
+      triangle's edge can fall on the wrong side of its other edges): rule no_turn_over
+      would then freeze its corners for the whole run;
+    - an edge with three or more faces among the new ones (a seam where three sheets
+      meet, a vertex that fitted an edge of its own side): the repair must not make a
+      manifold mesh non-manifold."""
+    split = np.bincount(parent, minlength=len(before))[parent] > 1
+    normals, _ = face_frames(V, faces)
+    parent_normals, _ = face_frames(V, before)
+    turned = split & (np.einsum("ij,ij->i", normals, parent_normals[parent]) <= 0)
+    bad = np.unique(parent[turned])
+    for _ in range(ROUNDS + 1):
+        if len(bad):
+            undo = np.isin(parent, bad)
+            faces = np.concatenate([faces[~undo], before[bad]])
+            weights = np.concatenate([weights[~undo], np.broadcast_to(np.eye(3), (len(bad), 3, 3))])
+            parent = np.concatenate([parent[~undo], bad])
+        conn = topology.build(faces, n)
+        crowded = np.flatnonzero(conn.edge_faces > 2)
+        if len(crowded) == 0:
+            break
+        split = np.bincount(parent, minlength=len(before))[parent] > 1
+        on_crowded = np.flatnonzero(np.isin(conn.he_edge, crowded)) // 3
+        bad = np.unique(parent[on_crowded[split[on_crowded]]])
+        if len(bad) == 0:
+            break  # those edges were non-manifold in the input
+    return faces, parent, weights
