@@ -94,6 +94,8 @@ class State:
     guards: object = None  # the ladder step in force
     removed_components: int = 0
     input_quality: object = None  # (run faces,) triangle quality, indexed like face_origin
+    sliver_allowance: float = 0.0  # core.slivers.sliver_allowance of the input
+    floor_off: bool = False  # this pass: fewer slivers than the allowance, the sliver floor is off
     worst_input_quality: object = None  # (n,) core.slivers.worst_input_quality, carried through collapses
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
@@ -155,6 +157,7 @@ def run(p: Problem) -> list:
     # reference for rule no_turn_over.
     s.input_quality[p.face_origin] = triangle_quality(s.V, s.F if p.unsplit_faces is None else p.unsplit_faces)
     s.worst_input_quality = slivers.worst_input_quality(s.F, n, s.input_quality[p.face_origin])
+    s.sliver_allowance = slivers.sliver_allowance(s.input_quality[p.face_origin])
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
 
@@ -273,8 +276,10 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         # is what stops the run: relaxing the quality rules would only buy slivers under
         # the same bound. Otherwise the rules relax (_unstick) as for a face target.
         return STOP_MAX_ERROR if s.tracker is not None and _distance_blocks(s) else STOP_TOPOLOGY
+    s.floor_off = slivers.within_allowance(s.V, s.F, s.sliver_allowance)
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
-    cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
+    if not s.sliver_allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
+        cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.

@@ -51,7 +51,8 @@ RULES = (
     # Quality: relaxed step by step, in RELAXATION_LADDER's order.
     Rule("normal_turn", "no face turns by more than arccos(min_normal_cosine)", True),
     Rule("sliver", "no face becomes a sliver (quality below min_quality), but where its "
-                   "three corners lie on open borders (core.slivers)", True),
+                   "three corners lie on open borders, and while a sliver-rich input's LOD has "
+                   "fewer slivers than the input's share (core.slivers)", True),
     Rule("seams", "seam vertices slide only along their seam; seam ends stay put", True),
     Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
                             "boundary, stay put (feature_angle)", True),

@@ -66,7 +66,7 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
 
     source = rows(s.source_normals, s.face_origin[faces])
     guards = s.guards
-    floor = guards.min_quality
+    floor = 0.0 if s.floor_off else guards.min_quality  # core.slivers.sliver_allowance
     if floor > 0 and conn.border_vertex.any():
         floor = slivers.border_floors(floor, s.worst_input_quality, conn.border_vertex, keep, remove,
                                       nb_next, nb_prev, collapse)
