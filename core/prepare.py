@@ -2,8 +2,11 @@
 
 Positions are normalised (centred, unit bounding-box diagonal) because quadric sums of
 large coordinates lose precision to cancellation; coincident vertices are welded and
-faces that became degenerate or duplicate are dropped, since they cannot be simplified
-and would break the manifold checks.
+faces that became degenerate or duplicate, or have zero area, are dropped, since they
+cannot be simplified and would break the manifold checks. Then the faults of exported
+tessellations are repaired for the run: T-junction cracks closed (core.stitching) and
+every part wound one way (core.orientation); the LOD comes back with the input's
+windings and face origins (core.engine._snapshot).
 """
 from __future__ import annotations
 
@@ -13,9 +16,15 @@ from typing import Optional
 import numpy as np
 
 from . import checks, orientation, stitching, topology
+from .metrics import triangle_quality
 from .options import Options
 from .weld import weld_map
 from . import locality
+
+
+# Below this triangle quality (core.metrics: 1 equilateral, about 1.7 height / longest
+# edge) a face's corners lie on one line as far as float32 positions can tell.
+ZERO_AREA_QUALITY = 1e-6
 
 
 @dataclass
@@ -161,8 +170,15 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     welded = int(np.count_nonzero(rep != np.arange(n)))
     fw = rep[f] if m else f
     keep = (fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 0] != fw[:, 2])
+    twin = None
     if m:
-        keep &= _first_copies(np.sort(fw, axis=1), n)
+        first, twin = _first_copies(fw, n)
+        keep &= first
+        # Faces whose corners lie on one line (to float32 precision) have no area to keep
+        # and no normal; exporters write them where they bridge a T-junction, (a, m, b)
+        # beside a face on (a, b), which puts three faces on that edge. Without them the
+        # junction is an open slit, which core.stitching closes.
+        keep[keep] &= triangle_quality(vn, fw[keep]) >= ZERO_AREA_QUALITY
     face_origin = np.flatnonzero(keep)
     faces_kept = fw[keep]
     cattrs = {k: a[keep] for k, a in cattrs.items()}
@@ -191,6 +207,17 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         cattrs = {k: _swap_corners(a, flip) for k, a in cattrs.items()}
         flipped_origin = np.zeros(run_faces, dtype=bool)
         flipped_origin[face_origin[flip]] = True
+        # A turned face whose input also has it wound the run's way descends from that
+        # copy instead, and keeps the run's winding: of a face written twice, once each
+        # way, the LOD keeps the one that agrees with its neighbours.
+        input_id = face_origin if face_source is None else face_source[face_origin]
+        other = twin[input_id[flip]] if twin is not None else np.full(int(flip.sum()), -1)
+        has_twin = other >= 0
+        if has_twin.any():
+            turned = face_origin[np.flatnonzero(flip)[has_twin]]
+            flipped_origin[turned] = False
+            face_source = np.arange(m) if face_source is None else face_source
+            face_source[turned] = other[has_twin]
         conn = None  # its half-edges are those of the faces before turning
     # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
@@ -250,14 +277,15 @@ def _swap_corners(values: np.ndarray, flip: np.ndarray) -> np.ndarray:
     return values
 
 
-def _first_copies(sorted_faces: np.ndarray, n: int) -> np.ndarray:
-    """(m,) bool: the first of the faces with each set of corners (rows sorted, (m, 3)).
+def _first_copies(faces: np.ndarray, n: int) -> tuple:
+    """((m,) bool: the first of the faces with each set of corners; (m,) int64: for each
+    face, the first face of its set wound the other way, or -1). faces (m, 3).
 
     Two stable integer sorts, by the first two corners and then by that pair's rank and
     the third corner; a single key a*n^2 + b*n + c would overflow int64 from 2M vertices,
     and np.unique(axis=0) sorts the rows as raw bytes, 25 times slower (6 s at 8M faces)."""
-    m = len(sorted_faces)
-    sorted_faces = sorted_faces.astype(np.int64, copy=False)  # NumPy 1.x keeps int32 * np.int64(n) in int32
+    m = len(faces)
+    sorted_faces = np.sort(faces, axis=1).astype(np.int64, copy=False)  # NumPy 1.x keeps int32 * np.int64(n) in int32
     pair = sorted_faces[:, 0] * np.int64(n) + sorted_faces[:, 1]
     by_pair = np.argsort(pair, kind="stable")
     ordered = pair[by_pair]
@@ -266,9 +294,21 @@ def _first_copies(sorted_faces: np.ndarray, n: int) -> np.ndarray:
     triple = rank * np.int64(n) + sorted_faces[:, 2]  # < m * n: fits int64
     by_triple = np.argsort(triple, kind="stable")
     ordered = triple[by_triple]
+    starts = np.concatenate([[True], ordered[1:] != ordered[:-1]])
     first = np.zeros(m, dtype=bool)
-    first[by_triple[np.concatenate([[True], ordered[1:] != ordered[:-1]])]] = True
-    return first
+    first[by_triple[starts]] = True
+    # A duplicate wound the other way: each face's winding is the parity of the rotation
+    # that starts it at its smallest corner (a, b, c -> even where b < c).
+    group = np.empty(m, dtype=np.int64)
+    group[by_triple] = np.cumsum(starts) - 1
+    smallest = np.argmin(faces, axis=1)
+    after = faces[np.arange(m), (smallest + 1) % 3]
+    before = faces[np.arange(m), (smallest + 2) % 3]
+    odd = (after > before).astype(np.int64)
+    first_of = np.full((int(group.max(initial=-1)) + 1, 2), m, dtype=np.int64)
+    np.minimum.at(first_of, (group, odd), np.arange(m))
+    twin = first_of[group, 1 - odd]
+    return first, np.where(twin < m, twin, -1)
 
 
 def _max_by_group(values, rep, n):

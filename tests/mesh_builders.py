@@ -264,3 +264,79 @@ def thin_patches(count: int, seed: int = 0, levels: int = 2, bulge: float = 0.15
         parts.append(((v[:, :3] + np.c_[0 * lift, 0 * lift, lift]) @ turn.T + rng.uniform(-3, 3, 3), f))
     return components(parts)
 
+
+
+# ---------------------------------------------------------------- what exporters write (issue 33)
+
+def flipped_caps(n_lon: int = 20, n_lat: int = 10):
+    """A UV sphere whose two pole caps are wound the wrong way (some exporters write
+    triangle fans so): (V, F, the rows of F turned over)."""
+    V, F, _ = uv_sphere(n_lon, n_lat)
+    F = F.copy()
+    caps = np.r_[0:n_lon, len(F) - n_lon:len(F)]
+    F[caps] = F[caps][:, ::-1]
+    return V, F, caps
+
+
+def with_bad_faces(V, F, seed: int = 0, share: float = 0.1):
+    """(V, F') with faces no simplifier can use mixed in among F's, ``share`` of its count
+    of each kind: exact duplicates, duplicates wound the other way, zero-area faces on
+    three points of one line (the midpoint of an edge is added as a vertex) and faces
+    with a repeated corner. Returns (V', F', (m',) bool: the rows no simplifier can use,
+    the zero-area ones and those with a repeated corner; of two copies of a face either
+    may serve)."""
+    rng = np.random.default_rng(seed)
+    k = max(int(share * len(F)), 1)
+    dup = F[rng.choice(len(F), k, replace=False)]
+    rev = F[rng.choice(len(F), k, replace=False)][:, ::-1]
+    pick = F[rng.choice(len(F), k, replace=False)]
+    mid = 0.5 * (V[pick[:, 0]] + V[pick[:, 1]])
+    mid_ids = len(V) + np.arange(k)
+    flat = np.c_[pick[:, 0], mid_ids, pick[:, 1]]
+    repeated = F[rng.choice(len(F), k, replace=False)][:, [0, 0, 1]]
+    bad = np.concatenate([dup, rev, flat, repeated])
+    allF = np.concatenate([F, bad])
+    order = rng.permutation(len(allF))
+    is_bad = np.r_[np.zeros(len(F) + 2 * k, bool), np.ones(2 * k, bool)][order]
+    return np.concatenate([V, mid]), allF[order].astype(np.int64), is_bad
+
+
+def three_sheets(n: int = 10):
+    """Three square sheets hinged on one shared edge (x = 0 .. 1, y = z = 0), at 0, 120
+    and 240 degrees: every edge along the hinge has three faces."""
+    sheets = []
+    for angle in (0.0, 2 * np.pi / 3, 4 * np.pi / 3):
+        v, f = grid(n)
+        y = v[:, 1]
+        sheets.append((np.c_[v[:, 0], y * np.cos(angle), y * np.sin(angle)], f))
+    V, F = components(sheets)
+    return weld_exact(V, F)
+
+
+def bolts(count: int = 500, seed: int = 0, spread: float = 20.0):
+    """``count`` separate closed boxes of 12 triangles each (bolts, rivets, screws of a CAD
+    assembly) of random sizes 0.2-1 and turns, scattered over a cube of side ``spread``."""
+    rng = np.random.default_rng(seed)
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    quads = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
+    faces = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    meshes = []
+    for _ in range(count):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        size = rng.uniform(0.1, 0.5, 3)
+        meshes.append(((corners * size) @ q.T + rng.uniform(0, spread, 3), faces))
+    return components(meshes)
+
+
+def t_junction_slit(left: int = 12, right: int = 7, rows: int = 10):
+    """One sheet tessellated in two halves that do not share their middle line: the left
+    half cuts it into ``left`` segments, the right half into ``right`` (as CAD exporters
+    tessellate each face of a solid alone). Only the line's two ends are shared, so the
+    middle is a slit of zero width: two border chains on one line, T-junctions."""
+    lv, lf = grid(rows, left, size=(1.0, 1.0), alternate=True)
+    rv, rf = grid(rows, right, size=(1.0, 1.0), alternate=True)
+    # Both halves in the plane z = 0; the left one for x in [-1, 0], the right one [0, 1],
+    # the shared line at x = 0 (the left grid's last column, the right grid's first).
+    lv = np.c_[lv[:, 0] - 1.0, lv[:, 1], lv[:, 2]]
+    V, F = components([(lv, lf), (rv, rf)])
+    return weld_exact(V, F)

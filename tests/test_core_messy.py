@@ -14,14 +14,7 @@ import mesh_builders as build
 import mesh_checks as check
 
 
-def _flipped_caps(n_lon=20, n_lat=10):
-    """A UV sphere whose two pole caps are wound the wrong way (as some exporters write
-    triangle fans): 40 edges run the same way in both their faces."""
-    V, F, _ = build.uv_sphere(n_lon, n_lat)
-    F = F.copy()
-    caps = np.r_[0:n_lon, len(F) - n_lon:len(F)]
-    F[caps] = F[caps][:, ::-1]
-    return V, F, caps
+_flipped_caps = build.flipped_caps
 
 
 def _normals(V, F):
@@ -57,6 +50,12 @@ def test_flipped_faces_keep_their_corner_values():
     r = core.simplify(V, F, ratio=1.0, corner_attributes={"uv": uv})
     assert np.array_equal(r.faces, F)  # nothing collapsed: the input comes back
     assert np.allclose(r.corner_attributes["uv"], uv)
+    r = core.simplify(V, F, ratio=0.5, corner_attributes={"uv": uv})
+    assert np.isin(r.face_origin, caps).any()
+    # Corners that never moved still carry their own vertex's value.
+    still = np.all(r.vertices[r.faces] == V[F[r.face_origin]], axis=2)
+    assert still.any()
+    assert np.allclose(r.corner_attributes["uv"][still], r.vertices[r.faces][still][:, :2])
 
 
 def test_consistent_meshes_are_not_touched():
@@ -107,3 +106,129 @@ def test_parity_labels_satisfy_a_consistent_graph(n, seed):
     assert np.all(parity[root] == 0)
     from core.topology import connected_labels
     assert np.array_equal(root, connected_labels(n, a, b))
+
+
+# ---------------------------------------------------------------- degenerate and duplicate faces
+
+@pytest.mark.parametrize("ratio", [0.25, 0.1, 0.02])
+def test_a_soup_of_bad_faces_reaches_every_target(ratio):
+    """Exact and reversed duplicates, zero-area faces on three points of a line (which put
+    a third face on an edge) and faces with a repeated corner, a tenth of each among a
+    sphere's faces: none of them is simplified, none of them holds the run back."""
+    V, F, is_bad = build.with_bad_faces(*build.icosphere(3))
+    r = core.simplify(V, F, ratio=ratio)
+    check.assert_valid_result(r, V, F)
+    check.assert_target_respected(r, round(ratio * len(F)))
+    assert r.stats.stop_reason == core.STOP_TARGET
+    assert r.stats.relaxation_step == 0
+    # The unusable faces are gone; of two copies of a face one is left (checked above), and
+    # it is wound like its neighbours (the reversed copies included).
+    assert not is_bad[r.face_origin].any()
+
+
+# ---------------------------------------------------------------- non-manifold edges
+
+@pytest.mark.parametrize("ratio", [0.25, 0.1])
+def test_three_sheets_on_one_edge_reach_the_target(ratio):
+    """The hinge's edges have three faces each: they and their vertices stay, the sheets
+    simplify around them."""
+    V, F = build.three_sheets()
+    r = core.simplify(V, F, ratio=ratio)
+    check.assert_valid_mesh(r.vertices, r.faces, manifold=False)
+    assert r.stats.stop_reason == core.STOP_TARGET and len(r.faces) <= round(ratio * len(F))
+    hinge = np.flatnonzero((np.abs(V[:, 1]) < 1e-12) & (np.abs(V[:, 2]) < 1e-12))
+    assert np.isin(hinge, r.vertex_origin).all()
+    # No edge off the hinge got a third face.
+    edges, count = check.edge_table(r.faces)
+    off_hinge = ~np.all(np.isin(r.vertex_origin[edges], hinge), axis=1)
+    assert count[off_hinge].max() <= 2
+
+
+# ---------------------------------------------------------------- many small parts
+
+@pytest.mark.parametrize("ratio", [0.25, 0.1, 0.02])
+def test_five_hundred_bolts_reach_the_target(ratio):
+    """500 closed boxes of 12 triangles: each can shrink to a tetrahedron (2,000 faces),
+    below that the smallest go whole (by default)."""
+    V, F = build.bolts(500)
+    target = round(ratio * len(F))
+    r = core.simplify(V, F, target_faces=target)
+    check.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == core.STOP_TARGET and target - 1 <= len(r.faces) <= target
+    parts_left = check.count_components(len(r.vertices), check.edge_table(r.faces)[0])
+    assert r.stats.removed_components == 500 - parts_left > 0 or target >= 2000
+    # Kept whole, every box stays a closed part of at least four faces.
+    kept = core.simplify(V, F, target_faces=target, remove_small_components=False)
+    assert len(kept.faces) == max(target, 2000) or kept.stats.stop_reason == core.STOP_TOPOLOGY
+    assert check.count_components(len(kept.vertices), check.edge_table(kept.faces)[0]) == 500
+
+
+def test_removed_bolts_are_the_smallest():
+    """Parts go smallest first by the area they have when the run gets stuck: what the
+    same run with every part kept ends with."""
+    V, F = build.bolts(100, seed=1)
+    part = np.repeat(np.arange(100), 12)
+    r = core.simplify(V, F, target_faces=200)
+    kept = core.simplify(V, F, target_faces=200, remove_small_components=False)
+    assert r.stats.removed_components > 0 and kept.stats.removed_components == 0
+    kv, kf = kept.vertices, kept.faces
+    area = np.linalg.norm(np.cross(kv[kf[:, 1]] - kv[kf[:, 0]], kv[kf[:, 2]] - kv[kf[:, 0]]), axis=1)
+    part_area = np.bincount(part[kept.face_origin], weights=area, minlength=100)
+    survivors = np.unique(part[r.face_origin])
+    gone = np.setdiff1d(np.arange(100), survivors)
+    assert len(gone) == r.stats.removed_components
+    assert part_area[gone].max() <= part_area[survivors].min()
+
+
+# ---------------------------------------------------------------- T-junctions
+
+def _inner_border_edges(V, F):
+    """Border edges of a LOD of ``t_junction_slit`` that are not on its outer rectangle."""
+    b = check.boundary_edges(F)
+    mid = 0.5 * (V[b[:, 0]] + V[b[:, 1]])
+    outer = (np.abs(np.abs(mid[:, 0]) - 1.0) < 1e-3) | (mid[:, 1] < 1e-3) | (mid[:, 1] > 1.0 - 1e-3)
+    return int(np.count_nonzero(~outer))
+
+
+@pytest.mark.parametrize("ratio", [0.5, 0.2, 0.1])
+def test_a_t_junction_slit_is_closed(ratio):
+    """Two halves of a sheet cut their shared line at 12 and 7 points: stitched, the line
+    is an inner seam and no LOD opens it (without the repair it stays a slit of border
+    edges that each side simplifies on its own)."""
+    V, F = build.t_junction_slit()
+    assert _inner_border_edges(V, F) == 12 + 7
+    r = core.simplify(V, F, ratio=ratio)
+    check.assert_valid_result(r, V, F, split=True)
+    assert r.stats.stop_reason == core.STOP_TARGET
+    assert _inner_border_edges(r.vertices, r.faces) == 0
+    apart = core.simplify(V, F, ratio=ratio, stitch_cracks=False)
+    assert _inner_border_edges(apart.vertices, apart.faces) > 0
+
+
+def test_stitched_faces_map_to_the_faces_they_split_and_interpolate_corner_values():
+    V, F = build.t_junction_slit()
+    uv = V[F][:, :, :2].copy()  # corner value = its vertex's x, y: linear over every face
+    r = core.simplify(V, F, ratio=1.0, corner_attributes={"uv": uv})
+    assert len(r.face_origin) == len(r.faces) and r.face_origin.max() < len(F)
+    # Every face lies in the face it descends from: its normal agrees, its corners are
+    # in that face's plane (z = 0 here) and its corner values are the linear ones.
+    assert np.allclose(r.corner_attributes["uv"], r.vertices[r.faces][:, :, :2])
+    n_out = np.cross(r.vertices[r.faces[:, 1]] - r.vertices[r.faces[:, 0]], r.vertices[r.faces[:, 2]] - r.vertices[r.faces[:, 0]])
+    n_src = np.cross(V[F[r.face_origin, 1]] - V[F[r.face_origin, 0]], V[F[r.face_origin, 2]] - V[F[r.face_origin, 0]])
+    assert np.all(np.einsum("ij,ij->i", n_out, n_src) > 0)
+
+
+def test_separate_parts_that_touch_are_not_stitched():
+    """A box standing on a sheet, its open bottom border on the sheet's faces: two parts,
+    left two parts."""
+    sheet_v, sheet_f = build.grid(8, size=2.0)
+    sheet_v = sheet_v - [1.0, 1.0, 0.0]
+    box_v, box_f, _ = build.cube(2, half=0.3)
+    box_v = box_v + [0.0, 0.0, 0.3]
+    bottom = np.all(np.isclose(box_v[box_f][:, :, 2], 0.0), axis=1)
+    V, F = build.components([(sheet_v, sheet_f), (box_v, box_f[~bottom])])
+    from core.prepare import validate_and_prepare
+    p = validate_and_prepare(V, F, [len(F)], core.Options())
+    assert p.face_source is None  # nothing was split
+    r = core.simplify(V, F, ratio=0.5)
+    assert check.count_components(len(r.vertices), check.edge_table(r.faces)[0]) == 2

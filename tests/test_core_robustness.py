@@ -105,7 +105,7 @@ def test_many_components_each_simplified_and_kept():
 
 
 def test_small_components_are_never_deleted_nor_their_locked_vertices():
-    # A disc simplifies down to one triangle; collapsing an edge of that last triangle
+    # With every part kept (remove_small_components=False): a disc simplifies down to one triangle; collapsing an edge of that last triangle
     # would delete the whole piece (and any locked vertex on it). Found by a fuzz run on
     # cropped real meshes: a 45-face disc with two locked vertices vanished at 5 %.
     rng = np.random.default_rng(3)
@@ -117,7 +117,7 @@ def test_small_components_are_never_deleted_nor_their_locked_vertices():
     locked = np.zeros(len(V), dtype=bool)
     locked[len(V) - 5] = True  # a vertex of the last disc
     for kw in ({}, {"locked": locked}):
-        r = core.simplify(V, F, target_faces=0, **kw)
+        r = core.simplify(V, F, target_faces=0, remove_small_components=False, **kw)
         check.assert_valid_result(r, V, F)
         assert r.stats.stop_reason == "topology_limit"
         assert len(r.faces) >= n_comp
@@ -226,7 +226,19 @@ def test_the_first_copy_of_each_face_is_kept(rows, n):
     _, first = np.unique(faces, axis=0, return_index=True)
     expected = np.zeros(len(faces), dtype=bool)
     expected[first] = True
-    assert np.array_equal(_first_copies(faces, n), expected)
+    first, twin = _first_copies(faces, n)
+    assert np.array_equal(first, expected)
+    assert (twin == -1).all()  # every row is wound the same way (sorted)
+    # With each row (of three distinct corners: a winding) also written the other way
+    # round after all of them, each row's twin is the first copy of it the other way.
+    faces = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])]
+    k = len(faces)
+    if k:
+        first, twin = _first_copies(np.concatenate([faces, faces[:, ::-1]]), n)
+        _, first_index, group = np.unique(faces, axis=0, return_index=True, return_inverse=True)
+        group = group.ravel()
+        assert np.array_equal(twin[:k], k + first_index[group])
+        assert np.array_equal(twin[k:], first_index[group])
 
 
 def test_zero_area_input_faces_do_not_break_the_solver():
