@@ -15,7 +15,7 @@ a seam. The result must then:
 - have no zero-area face other than an untouched zero-area face of the input;
 - turn no UV triangle over (when UVs are carried), unless the target needed that rule
   relaxed (stats.relaxation_step);
-- remove no part unless remove_small_components was given.
+- remove no part when remove_small_components is False.
 A failing case is printed and saved as FAILDIR/case_<k>.npz (input arrays and controls).
 
     .venv/bin/python bench/fuzz.py --minutes 10 --seed 1 [--damage] [--uv]
@@ -103,7 +103,7 @@ def draw_case(rng, meshes, damage, with_uv):
     if rng.random() < 0.3:
         options["min_quality"] = float(rng.choice([0.0, 0.1, 0.5]))
     if rng.random() < 0.3:
-        options["remove_small_components"] = True
+        options["remove_small_components"] = False
     if with_uv:  # a planar projection with a random ball of faces moved to its own island
         axes = np.linalg.qr(rng.normal(size=(3, 3)))[0][:, :2]
         uv = V[F] @ axes
@@ -146,8 +146,8 @@ def broken_promises(V, F, options, r) -> list:
             problems.append(f"target {target} said reached, got {len(faces)}")
         if r.stats.stop_reason != "target_reached" and len(faces) <= target:
             problems.append(f"stopped as {r.stats.stop_reason} at {len(faces)} faces, target {target}")
-    if r.stats.removed_components and not options.get("remove_small_components"):
-        problems.append("parts removed without remove_small_components")
+    if r.stats.removed_components and not options.get("remove_small_components", True):
+        problems.append("parts removed with remove_small_components=False")
     if "locked" in options:
         locked = np.intersect1d(np.flatnonzero(options["locked"]), F)
         if not np.isin(locked, vo).all():

@@ -143,10 +143,13 @@ def test_topology_limit_is_a_distinct_stop():
     check.assert_valid_result(r, V, F)
     assert len(r.faces) == 4 and r.stats.stop_reason == core.STOP_TOPOLOGY
     assert "topology" in core.STOP_REASON_TEXT[r.stats.stop_reason]
-    # Two separate closed parts keep four faces each.
+    # Two separate closed parts keep four faces each when every part is kept; by
+    # default one goes, and the target is reached.
     V2, F2 = build.components([(V, F), (V + 3.0, F)])
-    r = core.simplify(V2, F2, target_faces=4)
+    r = core.simplify(V2, F2, target_faces=4, remove_small_components=False)
     assert len(r.faces) == 8 and r.stats.stop_reason == core.STOP_TOPOLOGY
+    r = core.simplify(V2, F2, target_faces=4)
+    assert len(r.faces) == 4 and r.stats.stop_reason == core.STOP_TARGET and r.stats.removed_components == 1
 
 
 # ------------------------------------------------------------------ small parts
@@ -160,14 +163,14 @@ def _scene_of_parts():
     return build.components(parts), [len(p[1]) for p in parts]
 
 
-def test_small_parts_stay_by_default_and_go_smallest_first_when_allowed():
+def test_small_parts_go_smallest_first_by_default_and_stay_when_asked():
     (V, F), sizes = _scene_of_parts()
     target = 20  # below the 7 x 4 faces that seven closed parts keep at least
-    kept = core.simplify(V, F, target_faces=target)
+    kept = core.simplify(V, F, target_faces=target, remove_small_components=False)
     assert kept.stats.stop_reason == core.STOP_TOPOLOGY and len(kept.faces) > target
     assert check.count_components(len(kept.vertices), check.edge_table(kept.faces)[0]) == 7
 
-    r = core.simplify(V, F, target_faces=target, remove_small_components=True)
+    r = core.simplify(V, F, target_faces=target)
     check.assert_valid_result(r, V, F)
     assert r.stats.stop_reason == "target_reached" and len(r.faces) <= target
     # The big sphere is never removed, and the removed parts are the smallest ones.
