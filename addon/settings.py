@@ -86,8 +86,9 @@ class Setting:
       and the command line check it, Blender properties get it as their min/max unless
       ``blender`` says otherwise (a property cannot have an open bound).
     blender: further Blender property arguments (soft_max, subtype, precision, ...).
-    flag: the command-line option, or None; a bool whose flag starts with --no- turns
-      the setting off. cli: further argparse arguments (metavar, help with {default}).
+    flag: the command-line option, or None; a bool that is on by default has a flag
+      that turns it off (--no-preserve-seams, --keep-small-parts). cli: further argparse
+      arguments (metavar, help with {default}).
     what: how messages name it. core: the core option it becomes (documentation).
     strength: for a preserve_* switch, the name of the setting weighting it.
     """
@@ -229,12 +230,12 @@ SETTINGS = (
                                            "like sharp edges, and their corners (and sharp turns of open "
                                            "borders) stay in place (default {default:g}; 0 = off)"},
             core="feature_angle (0 becomes None: off)"),
-    Setting("remove_small_components", False, "Remove Small Parts",
-            "When the target needs it, delete the smallest separate parts (bolts, "
-            "leaf cards) instead of stopping above the target",
-            flag="--remove-small-components",
-            cli={"help": "when a target cannot be reached otherwise, delete the smallest separate "
-                         "parts (bolts, leaf cards) rather than stop above it"},
+    Setting("remove_small_components", True, "Remove Small Parts",
+            "When a target cannot be reached otherwise, delete the smallest separate parts "
+            "(bolts, rivets, leaf cards) rather than stop above it; off keeps every part",
+            flag="--keep-small-parts",
+            cli={"help": "keep every separate part, even where a target cannot be reached otherwise "
+                         "(by default the smallest parts, bolts and leaf cards, are deleted then)"},
             core="remove_small_components"),
     # Importance: g in [0, 1] per vertex, from a vertex group or the skin weights.
     Setting("importance_source", 'NONE', "Importance", "Where the per-vertex importance comes from",
@@ -486,7 +487,7 @@ def add_arguments(group, names=None) -> None:
         if "help" in extra:
             extra["help"] = extra["help"].format(default=s.default)
         if s.kind is bool:
-            off = s.flag.startswith("--no-")
+            off = s.default is True  # the flag changes the default
             group.add_argument(s.flag, dest=s.name, action="store_false" if off else "store_true",
                                default=s.default, **extra)
         elif s.items:

@@ -16,7 +16,7 @@ REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "
                     "--jobs", "--line-weight", "--importance-group", "--from-armature", "--strength",
                     "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
                     "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials", "--min-quality",
-                    "--feature-angle", "--remove-small-components"]
+                    "--feature-angle", "--keep-small-parts"]
 
 
 def parse(*argv):
@@ -116,11 +116,11 @@ def test_check_args_rules():
         "--min-quality must be in [0, 1], got 1.5"]
     assert arguments.check_args(parse("--feature-angle", "180", "--report", "r.json")) == [
         "--feature-angle must be in [0, 180) degrees (0 = off), got 180"]
-    settings = arguments.lod_settings(parse("--min-quality", "0", "--feature-angle", "0", "--remove-small-components",
+    settings = arguments.lod_settings(parse("--min-quality", "0", "--feature-angle", "0", "--keep-small-parts",
                                    "--report", "r.json"))
-    assert (settings.min_quality, settings.feature_angle, settings.remove_small_components) == (0.0, 0.0, True)
+    assert (settings.min_quality, settings.feature_angle, settings.remove_small_components) == (0.0, 0.0, False)
     defaults = arguments.lod_settings(parse("--report", "r.json"))
-    assert (defaults.min_quality, defaults.feature_angle, defaults.remove_small_components) == (0.3, 80.0, False)
+    assert (defaults.min_quality, defaults.feature_angle, defaults.remove_small_components) == (0.3, 80.0, True)
     assert arguments.check_args(parse("--output", "a.fbx", "--format", "glb")) == [
         "--format goes with --output-dir; the --output file's extension picks its format"]
     assert arguments.check_args(parse("--importance-group", " ", "--report", "r.json")) == [

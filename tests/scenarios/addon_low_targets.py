@@ -40,6 +40,8 @@ def run() -> dict:
     bpy.ops.object.select_all(action='SELECT')
     bpy.ops.object.join()
     cubes = bpy.context.active_object
-    result["cubes_kept"] = one_level(cubes, target_triangles=10)
-    result["cubes_removed"] = one_level(cubes, target_triangles=10, remove_small_components=True)
+    result["cubes_kept"] = one_level(cubes, target_triangles=10, remove_small_components=False)
+    result["cubes_removed"] = one_level(cubes, target_triangles=10)
+    monkey = fresh(bpy.ops.mesh.primitive_monkey_add)
+    result["monkey_kept"] = one_level(monkey, target_triangles=9, remove_small_components=False)
     return result
