@@ -32,7 +32,7 @@ def main(argv=None, prog: Optional[str] = None) -> int:
     import time
     import traceback
 
-    from .headless import arguments, dask_tasks, freshness, inputs, report
+    from .headless import arguments, executors, freshness, inputs, report
     from .headless.console import Console
     from .headless.errors import UsageError
 
@@ -57,10 +57,11 @@ def main(argv=None, prog: Optional[str] = None) -> int:
             console.error(message)
         return EXIT_USAGE
     console.quiet = args.quiet
-    # Several inputs at once, or a cluster: Dask; checked now, before anything is done.
-    distributed = args.scheduler is not None or (args.jobs > 1 and len(jobs) > 1)
-    if distributed and not dask_tasks.dask_available():
-        console.error(dask_tasks.DASK_MISSING)
+    # Several inputs at once (threads here, no Dask needed) or a cluster (Dask; checked
+    # now, before anything is done).
+    batch = args.scheduler is not None or (args.jobs > 1 and len(jobs) > 1)
+    if args.scheduler is not None and not executors.dask_available():
+        console.error(executors.SCHEDULER_NEEDS_DASK)
         return EXIT_USAGE
     t0 = time.perf_counter()
     try:
@@ -70,7 +71,7 @@ def main(argv=None, prog: Optional[str] = None) -> int:
         return EXIT_USAGE
     on_result = stream.add if stream is not None else (lambda entry: None)
     try:
-        if distributed:
+        if batch:
             from .headless.batch import run_batch
             from .headless.one_input import skipped_entry, up_to_date_key
 
@@ -101,7 +102,7 @@ def main(argv=None, prog: Optional[str] = None) -> int:
     except KeyboardInterrupt:
         console.error("interrupted: files being written were left as they were")
         return EXIT_INTERRUPTED
-    except dask_tasks.SchedulerError as ex:
+    except executors.SchedulerError as ex:
         console.error(str(ex))
         return EXIT_USAGE
     except Exception as ex:  # our own bug: still one line unless asked for details

@@ -6,7 +6,8 @@ Writes two libraries of OBJ spheres into a temporary folder, small assets (about
 triangles, the bulk of a game's library) and large ones (about 180k), and runs
 ``python <checkout> --input LIB --output-dir OUT --format glb --force`` on each with every
 --jobs value, the deviation measured as by default. --jobs 1 runs in one Blender process;
---jobs 2 is Dask with a Blender process per input, so each input pays a process start.
+--jobs 2 runs a Blender process per input (two at a time, from threads of the parent), so
+each input pays a process start.
 Prints a markdown table (docs/headless.md quotes it). Run it alone: the machine's cores
 are what it measures.
 """

@@ -1,46 +1,42 @@
-"""The Dask batch runner (addon/headless/dask_tasks.py) and the up-to-date stamps (addon/headless/freshness.py),
-with a stand-in child process; tests/test_cli_batch.py runs the real command line."""
-import importlib.util
+"""The batch's task, executors and rules (addon/headless/asset_task.py, executors.py,
+task_runner.py) and the up-to-date stamps (addon/headless/freshness.py), with a
+stand-in child process; tests/test_cli_batch.py runs the real command line.
+
+--jobs N runs on the standard library's threads; the Dask cluster test skips without
+dask[distributed]."""
 import json
 import os
+import signal
+import subprocess
 import sys
 import time
 from pathlib import Path
 
 import pytest
 
+from addon.headless import asset_task, executors, freshness, task_runner
 from dask_cluster import scheduler_and_worker
 
-HEADLESS = Path(__file__).resolve().parent.parent / "addon" / "headless"
-
-
-def _module(name: str):
-    # Both modules are bpy-free and import nothing of ours: loaded from their files,
-    # without the add-on package around them.
-    spec = importlib.util.spec_from_file_location(f"lqlod_test_{name}", HEADLESS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-batch = _module("dask_tasks")
-freshness = _module("freshness")
-
-pytest.importorskip("distributed", reason="dask[distributed] is a test dependency (requirements-dev.txt)")
-
+REPO_ROOT = Path(__file__).resolve().parent.parent
 FAKE_CHILD = Path(__file__).with_name("fake_asset_child.py")
 
 
-def asset(behaviour: str) -> "batch.Asset":
-    return batch.Asset(behaviour, behaviour, [sys.executable, str(FAKE_CHILD), behaviour])
+def run(assets, *, jobs=1, scheduler=None, retries=2, on_result=None):
+    """The batch as the command line runs it (addon/headless/batch.py): the executor of
+    --jobs or --scheduler, the runner's rules."""
+    with executors.open_executor(jobs, scheduler) as (executor, _):
+        return task_runner.run(executor, assets, retries=retries, on_result=on_result)
+
+
+def asset(behaviour: str) -> asset_task.Asset:
+    return asset_task.Asset(behaviour, behaviour, [sys.executable, str(FAKE_CHILD), behaviour])
 
 
 def test_a_crash_fails_only_its_asset_and_is_retried(tmp_path):
     flaky = tmp_path / "crashed-once"
     assets = [asset("a"), asset("bad"), asset("crash"), asset(f"flaky:{flaky}"), asset("b")]
     streamed = []
-    entries = batch.run(assets, jobs=2, retries=2, on_result=streamed.append)
+    entries = run(assets, jobs=2, retries=2, on_result=streamed.append)
 
     assert [e["label"] for e in entries] == [a.label for a in assets], "entries come back in input order"
     by_label = {e["label"]: e for e in entries}
@@ -58,7 +54,7 @@ def test_clean_failures_are_not_retried(tmp_path):
     child = tmp_path / "counting_child.py"
     child.write_text(f"import runpy, sys\nopen({str(counter)!r}, 'a').write('x')\n"
                      f"sys.argv = [{str(FAKE_CHILD)!r}] + sys.argv[1:]\nrunpy.run_path({str(FAKE_CHILD)!r}, run_name='__main__')\n")
-    entries = batch.run([batch.Asset("bad", "bad", [sys.executable, str(child), "bad"])], jobs=1, retries=2)
+    entries = run([asset_task.Asset("bad", "bad", [sys.executable, str(child), "bad"])], jobs=1, retries=2)
     assert not entries[0]["ok"]
     assert counter.read_text() == "x", f"ran {len(counter.read_text())} times, expected once"
 
@@ -71,12 +67,12 @@ def test_a_stopped_batch_leaves_no_child_running(tmp_path):
     pids = [tmp_path / f"{i}.pid" for i in range(2)]
     result = {}
     runner = threading.Thread(target=lambda: result.update(
-        entries=batch.run([asset(f"sleep:{p}") for p in pids], jobs=2, retries=2)))
+        entries=run([asset(f"sleep:{p}") for p in pids], jobs=2, retries=2)))
     runner.start()
     deadline = time.monotonic() + 60
     while not all(p.exists() and p.read_text() for p in pids) and time.monotonic() < deadline:
         time.sleep(0.1)
-    batch.stop_running_children()
+    asset_task.stop_running_children()
     runner.join(timeout=60)
     assert not runner.is_alive(), "the batch did not end after its children were stopped"
     for p in pids:
@@ -84,16 +80,56 @@ def test_a_stopped_batch_leaves_no_child_running(tmp_path):
     assert all(not e["ok"] for e in result["entries"]), result
 
 
+INTERRUPTED_BATCH = """\
+import sys
+sys.path.insert(0, {root!r})
+from addon.headless import asset_task, executors, task_runner
+assets = [asset_task.Asset(p, p, [sys.executable, {child!r}, "sleep:" + p]) for p in sys.argv[1:]]
+with executors.open_executor(2) as (executor, _):
+    task_runner.run(executor, assets, retries=2)
+"""
+
+
+def test_ctrl_c_on_a_local_batch_kills_its_children_and_starts_no_more(tmp_path):
+    """SIGINT to the batch's process alone (as Ctrl-C, but its children do not get it):
+    closing the thread executor stops the two running children and never starts the
+    queued third, whose retries are not run either."""
+    script = tmp_path / "batch.py"
+    script.write_text(INTERRUPTED_BATCH.format(root=str(REPO_ROOT), child=str(FAKE_CHILD)))
+    pids = [tmp_path / f"{i}.pid" for i in range(3)]
+    proc = subprocess.Popen([sys.executable, str(script), *map(str, pids)], stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while not all(p.exists() and p.read_text() for p in pids[:2]) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert all(p.exists() for p in pids[:2]), "the first two children did not start"
+        proc.send_signal(signal.SIGINT)
+        interrupted = time.monotonic()
+        _, stderr = proc.communicate(timeout=90)
+        waited = time.monotonic() - interrupted
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode != 0 and "KeyboardInterrupt" in stderr, stderr[-2000:]
+    # The stand-in children sleep 60 s: a batch that waited for them did not stop them.
+    assert waited < 20, f"the interrupted batch took {waited:.0f} s to end"
+    for p in pids[:2]:
+        status = Path(f"/proc/{p.read_text()}/status")
+        assert not status.exists(), f"child {p.read_text()} still runs after the interrupt"
+    assert not pids[2].exists(), "the queued input was started after the interrupt"
+
+
 def test_no_retries_means_one_attempt():
-    entries = batch.run([asset("crash")], jobs=1, retries=0)
+    entries = run([asset("crash")], jobs=1, retries=0)
     assert not entries[0]["ok"] and "attempts" not in entries[0]["error"], entries[0]["error"]
 
 
 def test_a_separately_started_scheduler_and_worker_run_the_batch(tmp_path):
     """The cluster path: `dask scheduler` and `dask worker` as their own processes, the
     batch submitted to the scheduler's address; the worker has no copy of our package."""
+    pytest.importorskip("distributed", reason="dask[distributed] is a test dependency (requirements-dev.txt)")
     with scheduler_and_worker(tmp_path, {**os.environ, "PYTHONPATH": ""}) as address:
-        entries = batch.run([asset("a"), asset("bad"), asset("crash")], scheduler=address, retries=1)
+        entries = run([asset("a"), asset("bad"), asset("crash")], scheduler=address, retries=1)
     assert [e["ok"] for e in entries] == [True, False, False], entries
     assert "SIGABRT" in entries[2]["error"] and "2 attempts" in entries[2]["error"], entries[2]["error"]
 

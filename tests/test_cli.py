@@ -95,10 +95,10 @@ def test_batch_with_a_broken_file_finishes_the_others_and_fails(batches):
     for jobs, run in batches.items():
         assert run["code"] == 1, (jobs, run["stderr"][-3000:])
         errors = [line for line in run["stderr"].splitlines() if line.startswith("error:")]
-        assert len(errors) == 1 and errors[0].startswith("error: broken.glb: could not import"), (jobs, errors)
+        assert len(errors) == 1 and errors[0].startswith("error: broken.glb: cannot be read as glTF: "), (jobs, errors)
         assert "Traceback" not in run["stderr"], (jobs, run["stderr"][-3000:])
         failed = [line for line in run["stdout"].splitlines() if line.startswith("FAILED")]
-        assert len(failed) == 1 and "broken.glb: could not import" in failed[0] and "Bad GLB" in failed[0], \
+        assert len(failed) == 1 and "broken.glb: cannot be read as glTF: " in failed[0] and "Bad GLB" in failed[0], \
             f"expected one FAILED line for broken.glb (Bad GLB), got {failed}"
         assert "3 of 4 inputs done" in run["stdout"], run["stdout"][-3000:]
         written = sorted(p.name for p in lod_files(run["out"]))

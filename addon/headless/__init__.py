@@ -16,6 +16,11 @@ and inputs have been checked, so a mistyped option or a missing file fails at on
     one_input   * one input: load, LodJob (addon/job.py), LOD0 names and group, write
     report        the JSON report (or a .jsonl line per input), the table and the notes
     freshness     is an input's output up to date? (content, options and tool version)
-    dask_tasks    Dask: one task per input, each its own process; retries; local or a cluster
+    asset_task    one input's task: this command line on it in a Blender process of its
+                  own (standard library only: it also travels by value to Dask workers)
+    executors     where the tasks run: N threads here (--jobs) or a Dask cluster (--scheduler,
+                  the only part that imports Dask)
+    task_runner   the tasks on an executor: retries after crashes, entries streamed as they
+                  end and returned in input order
     batch       * --jobs N / --scheduler: the inputs as tasks running this command line
 """

@@ -22,7 +22,7 @@ from typing import Optional
 
 from ..settings import (IMPORTANCE_GROUP, parse_deviation, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
                         number, settings_from_arguments, whole_number)
-from .dask_tasks import SCHEDULER_ENV
+from .asset_task import SCHEDULER_ENV
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
 
@@ -184,13 +184,13 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
 
     g = p.add_argument_group("running")
     g.add_argument("--jobs", type=_positive_int, default=1, metavar="N",
-                   help="process N input files at a time, each in its own Blender process, on an "
-                        "in-process Dask cluster (needs dask[distributed]; default 1: one after "
-                        "the other in this process)")
+                   help="process N input files at a time, each in its own Blender process "
+                        "(nothing to install; default 1: one after the other in this process)")
     g.add_argument("--scheduler", metavar="ADDRESS", default=os.environ.get(SCHEDULER_ENV) or None,
                    help="run the inputs on the Dask cluster of this scheduler, e.g. "
-                        f"tcp://host:8786 (default: ${SCHEDULER_ENV} if set); workers need the "
-                        "inputs, outputs and this tool at the same paths")
+                        f"tcp://host:8786 (default: ${SCHEDULER_ENV} if set; needs "
+                        "dask[distributed]); workers need the inputs, outputs and this tool at "
+                        "the same paths")
     g.add_argument("--retries", type=_non_negative_int, default=DEFAULT_RETRIES, metavar="N",
                    help="run an input again up to N times if its Blender process crashes or is "
                         f"killed (default {DEFAULT_RETRIES}; inputs that fail cleanly are not retried)")

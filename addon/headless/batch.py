@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""--jobs N or --scheduler ADDRESS: the inputs as Dask tasks (dask_tasks.py), each this
-same command line on one input in its own Blender process.
+"""--jobs N or --scheduler ADDRESS: the inputs as tasks (asset_task.py), each this same
+command line on one input in its own Blender process, run on N threads here or on a Dask
+cluster (executors.py) by the same rules (task_runner.py).
 
 The child gets the parent's options, one input and its own report, which comes back as
 that input's entry; a child that crashes is retried (--retries), one that fails cleanly
@@ -13,8 +14,9 @@ import sys
 import time
 from pathlib import Path
 
-from . import dask_tasks
+from . import executors, task_runner
 from .arguments import RUN_OPTIONS, option_argv
+from .asset_task import Asset
 from .console import Console, duration
 from .inputs import InputJob
 
@@ -33,7 +35,7 @@ def child_command() -> list:
     return [sys.executable, script]  # the bpy module: the same interpreter
 
 
-def asset_for(job: InputJob, args, base: list) -> dask_tasks.Asset:
+def asset_for(job: InputJob, args, base: list) -> Asset:
     """The task of one input: ``base`` (the command and the shared options) plus its input,
     where its outputs go, and --force (the parent's up-to-date check already ran)."""
     argv = list(base)
@@ -46,7 +48,7 @@ def asset_for(job: InputJob, args, base: list) -> dask_tasks.Asset:
         argv.append("--force")
     if args.debug:  # the child's traceback, not only the parent's "--debug shows details"
         argv.append("--debug")
-    return dask_tasks.Asset(job.label, str(job.path) if job.path else job.label, argv)
+    return Asset(job.label, str(job.path) if job.path else job.label, argv, echo_stderr=args.debug)
 
 
 class ProgressBar:
@@ -82,16 +84,15 @@ def run_batch(jobs: list, args, parser, console: Console, on_result) -> list:
     base = child_command() + option_argv(parser, args, set(RUN_OPTIONS))
     assets = [asset_for(job, args, base) for job in jobs]
     bar = ProgressBar(console, len(assets))
-    client, cluster, dashboard = dask_tasks.open_client(args.jobs, args.scheduler)
-    if dashboard:
-        console.progress(f"Dask dashboard: {dashboard}")
 
     def finished(entry):
         bar.update(entry)
         on_result(entry)
 
-    try:
-        return dask_tasks.run_on(client, assets, retries=args.retries, on_result=finished)
-    finally:
-        bar.clear()
-        dask_tasks.close_client(client, cluster)
+    with executors.open_executor(args.jobs, args.scheduler) as (executor, dashboard):
+        if dashboard:
+            console.progress(f"Dask dashboard: {dashboard}")
+        try:
+            return task_runner.run(executor, assets, retries=args.retries, on_result=finished)
+        finally:
+            bar.clear()

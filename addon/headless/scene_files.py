@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Files in and out of the Blender scene: an input file imported into a fresh scene,
 the scene exported to an output atomically (a temporary folder, then a rename), and the
-importers' and exporters' own console output kept off ours.
+importers' and exporters' own console output kept off ours; their failures become one
+short line each ("cannot be read as glTF: ..."), never their Python tracebacks.
 
 bpy is imported inside the functions: the options are checked before Blender loads.
 """
@@ -17,12 +18,28 @@ from pathlib import Path
 from .errors import InputError
 
 
+# What each input's importer reads, for "cannot be read as glTF: ..." (inputs.INPUT_FORMATS).
+FORMAT_NAMES = {".blend": "a .blend file", ".obj": "OBJ", ".ply": "PLY", ".stl": "STL",
+                ".glb": "glTF", ".gltf": "glTF", ".fbx": "FBX"}
+MESSAGE_LIMIT = 200  # characters of an importer's or exporter's message kept in ours
+
+
 def clean_blender_error(ex: BaseException) -> str:
-    # Operators fail with RuntimeError("Error: <report>\n"); one line, without the prefix.
-    text = " ".join(line.strip() for line in str(ex).strip().splitlines() if line.strip())
+    """One short line for an operator's failure. Operators fail with RuntimeError("Error:
+    <report>\n"); when the importer or exporter itself raised, the report is its whole
+    Python traceback, which the user cannot act on: then only its last line is kept
+    (e.g. "IndexError: list index out of range"). --debug shows the importers' own
+    output, traceback included."""
+    lines = [line.strip() for line in str(ex).strip().splitlines() if line.strip()]
+    lines = [line for line in lines if not line.startswith("Location: ")]  # where bpy.ops raised
+    if any("Traceback (most recent call last)" in line for line in lines):
+        lines = lines[-1:]
+    text = " ".join(lines)
     for prefix in ("Error: ", "Error:"):
         if text.startswith(prefix):
             text = text[len(prefix):]
+    if len(text) > MESSAGE_LIMIT:
+        text = text[:MESSAGE_LIMIT - 3].rstrip() + "..."
     return text or type(ex).__name__
 
 
@@ -112,7 +129,9 @@ def load(job, show_output: bool) -> None:
             with blender_output(show_output):
                 import_file(job.path)
         except RuntimeError as ex:
-            raise InputError(f"could not import {job.path}: {clean_blender_error(ex)}") from ex
+            # The messages name the input already: "broken.glb: cannot be read as glTF: ..."
+            what = FORMAT_NAMES.get(job.path.suffix.lower(), job.path.suffix)
+            raise InputError(f"cannot be read as {what}: {clean_blender_error(ex)}") from ex
     elif job.kind == "sample":
         reset_scene()
         with blender_output(show_output):
