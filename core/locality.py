@@ -52,8 +52,6 @@ def reorder(p):
         vertex_attributes={k: rows(a, order) for k, a in p.vertex_attributes.items()},
         corner_attributes={k: rows(a, face_order) for k, a in p.corner_attributes.items()},
         feature_edges=new_id[p.feature_edges] if len(p.feature_edges) else p.feature_edges,
-        unsplit_faces=None if p.unsplit_faces is None else rows(new_id[p.unsplit_faces], face_order),
-        connectivity=None,  # of the faces before renumbering
         renumbered=True,
     )
 

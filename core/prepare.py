@@ -15,7 +15,7 @@ from typing import Optional
 
 import numpy as np
 
-from . import checks, orientation, stitching, topology
+from . import checks, repair
 from .metrics import triangle_quality
 from .options import Options
 from .weld import weld_map
@@ -180,45 +180,6 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         # junction is an open slit, which core.stitching closes.
         keep[keep] &= triangle_quality(vn, fw[keep]) >= ZERO_AREA_QUALITY
     face_origin = np.flatnonzero(keep)
-    faces_kept = fw[keep]
-    cattrs = {k: a[keep] for k, a in cattrs.items()}
-    conn = topology.build(faces_kept, n) if len(faces_kept) else None
-    # T-junction cracks of exported tessellations closed (core.stitching); the faces a
-    # split makes are new run face ids that map back to the face they split.
-    run_faces, face_source, unsplit_faces = m, None, None
-    stitched = stitching.stitch(vn, faces_kept, conn) if o.stitch_cracks and conn is not None else None
-    if stitched is not None:
-        unsplit = faces_kept
-        faces_kept, parent, weights = stitched
-        unsplit_faces = unsplit[parent]
-        cattrs = {k: np.einsum("fij,fjk->fik", weights, a[parent]) for k, a in cattrs.items()}
-        face_source = face_origin[parent]
-        face_origin = np.arange(len(faces_kept))
-        run_faces = len(faces_kept)
-        conn = topology.build(faces_kept, n)
-    # Parts wound inconsistently are made consistent for the run (core.orientation);
-    # the LOD's faces get their input winding back (engine._snapshot).
-    flipped_origin = None
-    flip = orientation.faces_to_flip(vn, faces_kept, conn) if conn is not None else np.zeros(0, dtype=bool)
-    if flip.any():
-        faces_kept[flip] = faces_kept[flip][:, [0, 2, 1]]
-        if unsplit_faces is not None:
-            unsplit_faces[flip] = unsplit_faces[flip][:, [0, 2, 1]]
-        cattrs = {k: _swap_corners(a, flip) for k, a in cattrs.items()}
-        flipped_origin = np.zeros(run_faces, dtype=bool)
-        flipped_origin[face_origin[flip]] = True
-        # A turned face whose input also has it wound the run's way descends from that
-        # copy instead, and keeps the run's winding: of a face written twice, once each
-        # way, the LOD keeps the one that agrees with its neighbours.
-        input_id = face_origin if face_source is None else face_source[face_origin]
-        other = twin[input_id[flip]] if twin is not None else np.full(int(flip.sum()), -1)
-        has_twin = other >= 0
-        if has_twin.any():
-            turned = face_origin[np.flatnonzero(flip)[has_twin]]
-            flipped_origin[turned] = False
-            face_source = np.arange(m) if face_source is None else face_source
-            face_source[turned] = other[has_twin]
-        conn = None  # its half-edges are those of the faces before turning
     # Welded vertices pool their locks, weights and scales: the strongest wins.
     if welded:
         locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
@@ -226,10 +187,10 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         if quadric_scale is not None:
             quadric_scale = _max_by_group(quadric_scale, rep, n)
 
-    return locality.reorder(Problem(
+    problem = locality.reorder(Problem(
         vertices=vn,
         input_positions=v,
-        faces=faces_kept,
+        faces=fw[keep],
         face_origin=face_origin,
         vertex_origin=np.arange(n),
         targets=tgt,
@@ -244,7 +205,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         seed=int(seed),
         vertex_attributes=vattrs,
         normalize_attributes=normalize,
-        corner_attributes=cattrs,
+        corner_attributes={k: a[keep] for k, a in cattrs.items()},
         uv_attributes=uvs,
         preserve_seams=bool(o.preserve_seams),
         feature_edges=rep[fe] if len(fe) else fe,
@@ -261,20 +222,9 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_vertices=n,
         input_faces=m,
         welded=welded,
-        flipped_origin=flipped_origin,
-        run_faces=run_faces,
-        face_source=face_source,
-        unsplit_faces=unsplit_faces,
-        connectivity=conn,
+        run_faces=m,
     ))
-
-
-def _swap_corners(values: np.ndarray, flip: np.ndarray) -> np.ndarray:
-    """Corner values (m, 3, k) with corners 1 and 2 swapped on the faces ``flip``: a face
-    turned over as (a, c, b) keeps each value on its vertex."""
-    values = values.copy()
-    values[flip] = values[flip][:, [0, 2, 1]]
-    return values
+    return repair.repaired(problem, twin, stitch=bool(o.stitch_cracks))
 
 
 def _first_copies(faces: np.ndarray, n: int) -> tuple:

@@ -157,8 +157,9 @@ def _near_pairs(V, a, b, points):
         points_out.append(by_key[lo_i[rep] + pos])
     if not edges_out:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    pairs = np.unique(np.stack([np.concatenate(edges_out), np.concatenate(points_out)], axis=1), axis=0)
-    return pairs[:, 0], pairs[:, 1]
+    # One int64 key per pair: np.unique on rows (axis=0) sorts them as bytes, far slower.
+    key = np.unique(np.concatenate(edges_out) * np.int64(len(points)) + np.concatenate(points_out))
+    return key // len(points), key % len(points)
 
 
 def _split_faces(F, corner, vertex, t):
