@@ -18,11 +18,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import components, features, quadrics, selection, shape_keys, slivers, topology, validation, vertex_quadrics
+from . import components, features, kinds, quadrics, selection, shape_keys, slivers, topology, validation, vertex_quadrics
 from .tracked_distance import TrackedDistance
 from .guards import relaxation_ladder
 from .heartbeat import Heartbeat
-from .selection import FREE, LOCKED, SEAM
 from .prepare import Problem
 from .result import (
     STOP_MAX_ERROR,
@@ -74,7 +73,8 @@ class State:
     area: np.ndarray
     F: np.ndarray
     face_origin: np.ndarray
-    locked: np.ndarray
+    locked: np.ndarray  # (n,) locked by the artist
+    complex: np.ndarray  # (n,) pinched or on an edge of 3+ faces (core.kinds.COMPLEX)
     corners: np.ndarray  # (n,) feature corners: locked while the rule feature_corners holds
     X: np.ndarray  # stacked vertex attributes (n, K)
     wedges: object
@@ -127,13 +127,13 @@ def run(p: Problem) -> list:
     )
     heartbeat.beat()
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
-    locked = p.locked | _non_manifold_vertices(conn, F, n)
+    complex_ = _non_manifold_vertices(conn, F, n)
     heartbeat.beat()
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
     s = State(
-        V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=locked, corners=corners,
+        V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=p.locked, complex=complex_, corners=corners,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
         conn=conn,
         rejected_pass=np.zeros(len(conn.edges), dtype=np.int64),
@@ -415,18 +415,21 @@ def _non_manifold_vertices(conn, F, n) -> np.ndarray:
 
 
 def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
-    """FREE, SEAM (moves only along its seam) or LOCKED for every vertex (rule seams)."""
+    """Every vertex's kind (core.kinds) under the rules in force (rules seams and
+    feature_corners, core.guards)."""
     locked = s.locked | s.corners if s.guards.corners_kept else s.locked
-    kind = np.where(locked, LOCKED, FREE).astype(np.int8)
+    kind = np.where(locked, kinds.LOCKED,
+                    np.where(s.complex, kinds.COMPLEX,
+                             np.where(conn.border_vertex, kinds.BORDER, kinds.FREE))).astype(np.int8)
     if s.wedges is not None and preserve_seams and s.guards.seams != "free":
         seam_edge = s.wedges.seam_edges(conn)
         seam_count = np.bincount(conn.edges[seam_edge].ravel(), minlength=n)
         on_seam = seam_count > 0
-        kind[on_seam & (kind == FREE)] = SEAM
+        kind[on_seam & (kind <= kinds.BORDER)] = kinds.SEAM
         # Seam ends and junctions stay put so the seam keeps its shape and its corners,
         # until the rule relaxes to let them slide along one of their seams.
         if s.guards.seams == "kept":
-            kind[on_seam & (seam_count != 2)] = LOCKED
+            kind[on_seam & (seam_count != 2)] = kinds.LOCKED
         conn.seam_edge = seam_edge
     else:
         conn.seam_edge = np.zeros(len(conn.edges), dtype=bool)

@@ -13,8 +13,10 @@ all). Two families:
   when the loosest step finds nothing either does the run stop, and then the topology
   itself forbids the target (``STOP_TOPOLOGY``).
 
-The table is data so that a newcomer can read the rules at a glance (cf. meshoptimizer's
-``kCanCollapse``); the code that enforces each rule names it in a comment.
+The table is data so that a newcomer can read the rules at a glance; the code that
+enforces each rule names it in a comment. Which vertex may merge into which, and where
+the merged vertex goes, is a table the selection reads: core.kinds (cf. meshoptimizer's
+``kCanCollapse``), which also lists how each fault of exported meshes is handled.
 """
 from __future__ import annotations
 
@@ -40,7 +42,8 @@ class Rule:
 RULES = (
     # Topology: never relaxed.
     Rule("manifold_edges", "edges with three or more faces never collapse", False),
-    Rule("locked_vertices", "locked, pinched and non-manifold vertices never move", False),
+    Rule("locked_vertices", "locked, pinched and non-manifold vertices never move (core.kinds: "
+                            "LOCKED and COMPLEX; the collapse table by vertex kind)", False),
     Rule("boundaries_stay", "an inner edge joining two border vertices never collapses", False),
     Rule("link_condition", "the ends share exactly the neighbours opposite the edge", False),
     Rule("no_fold_onto_opposite_edge", "no two faces end up on the same three vertices", False),

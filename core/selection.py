@@ -6,12 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import quadrics, shape_keys, topology
+from . import kinds, quadrics, shape_keys, topology
 from .geometry import edge_parameter, rows
 from .heartbeat import chunks
 
-# Vertex kinds: free, slides only along its seam, never moves.
-FREE, SEAM, LOCKED = 0, 1, 2
 _NO_RANK = np.iinfo(np.int64).max
 
 
@@ -45,18 +43,17 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
     faces_on_edge = conn.edge_faces
 
     ka, kb = kind[a], kind[b]
-    swap = kb > ka  # the more constrained end survives
+    swap = kinds.RANK[kb] > kinds.RANK[ka]  # the more constrained end survives
     keep = np.where(swap, b, a)
     remove = np.where(swap, a, b)
-    k_keep = np.maximum(ka, kb)
-    k_remove = np.minimum(ka, kb)
+    k_keep = np.where(swap, kb, ka)
+    k_remove = np.where(swap, ka, kb)
 
-    ok = (faces_on_edge == 1) | (faces_on_edge == 2)  # non-manifold edges stay
-    ok &= k_remove != LOCKED
-    # Boundaries stay boundaries: an inner edge joining two border vertices would pinch.
+    # The collapse table (core.kinds), then its rules by edge: manifold_edges ...
+    ok = kinds.allowed(k_remove, k_keep, conn.seam_edge)
+    ok &= (faces_on_edge == 1) | (faces_on_edge == 2)
+    # ... and boundaries_stay: an inner edge joining two border vertices would pinch.
     ok &= ~((faces_on_edge == 2) & conn.border_vertex[a] & conn.border_vertex[b])
-    # Two constrained ends may only slide along the seam that joins them.
-    ok &= ~((k_remove == SEAM) & ~conn.seam_edge)
     once_rejected = np.flatnonzero(ok & (s.rejected_pass > 0))
     ok[once_rejected[still_rejected(s, once_rejected, a[once_rejected], b[once_rejected])]] = False
     idx = np.flatnonzero(ok)
@@ -95,9 +92,10 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     q = quadrics.pair_sums(s.Q, keep, remove)
     v_keep, v_remove = s.V[keep], s.V[remove]
     position = quadrics.minimize(q, 0.5 * (v_keep + v_remove), s.area_scale)
-    fixed = (k_keep == LOCKED) | ((k_keep == SEAM) & (k_remove == FREE))
+    place = kinds.PLACE[k_remove, k_keep]
+    fixed = place == kinds.AT_KEEP
     position[fixed] = v_keep[fixed]
-    along_seam = (k_keep == SEAM) & (k_remove == SEAM)
+    along_seam = place == kinds.ON_SEAM
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
     error = quadrics.evaluate(q, position)

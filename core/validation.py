@@ -57,7 +57,7 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     # preceding neighbours add nothing; only open fans (borders) and pinched or locked
     # vertices need both to see their whole ring.
     moving = corner_vertex[corners]
-    open_fan = conn.border_vertex[moving] | s.locked[moving]
+    open_fan = conn.border_vertex[moving] | s.locked[moving] | s.complex[moving]
     edge = cand.edge[chosen]
     ok = _link_condition(conn, edge, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
     opposite0, opposite1 = opposite
