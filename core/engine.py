@@ -62,6 +62,37 @@ ORDER_FREE_COST = 1e-9
 
 
 @dataclass
+class InputSlivers:
+    """The input's triangle shapes, which the sliver rule measures against (core.slivers)."""
+
+    quality: np.ndarray  # (run faces,) triangle quality of each input face, by face_origin
+    worst: np.ndarray  # (n,) the worst input face merged into each vertex so far
+    allowance: float  # the share of slivers the LOD may have (sliver_allowance)
+    floor_off: bool = False  # this pass: fewer slivers than the allowance, the floor is off
+
+
+@dataclass
+class KeyOffsets:
+    """Shape keys and sample poses in the error (core.shape_keys, core.skinning): offsets
+    the merged vertex follows by interpolation, carried in columns of State.X."""
+
+    quadrics: np.ndarray  # (K, n, 10) each key's quadrics
+    columns: tuple  # slice of X holding each key's offsets
+    index: np.ndarray  # (3K,) those columns of X, key by key
+    weights: np.ndarray  # (K,) what each key's error counts (shape_keys.key_weights)
+    scale: float  # offsets are in input units, positions normalised: this converts
+
+
+@dataclass
+class DistanceBound:
+    """``max_error`` in force (core.tracked_distance)."""
+
+    tracker: TrackedDistance
+    limit: float  # the bound, normalised units
+    far_rejected: np.ndarray  # (edges,) last rejected by the bound
+
+
+@dataclass
 class State:
     """The mesh while it is being simplified. Vertex rows are never compacted during
     the run (removed vertices simply stop being referenced), so vertex stamps stay valid
@@ -82,31 +113,21 @@ class State:
     conn: object  # connectivity of F
     rejected_pass: np.ndarray  # (k,) per edge: pass of its last rejection, 0 never
     area_scale: float = 1.0
-    cost_cache: object = None  # (keep, position, cost) of the last pass's candidates
-    cost_slot: object = None  # (k,) per edge: its row in cost_cache, or -1
+    cache: object = None  # core.selection.CostCache of the last pass's candidates, or None
     changed: object = None  # (n,) vertices whose quadric, position or kind changed
-    kind: object = None  # last pass's vertex kinds
+    kind: object = None  # last pass's vertex kinds (core.kinds)
     moved: object = None  # (n,) vertices that were ever given a new position
     face_count: object = None  # (n,) faces around each vertex (validation: no vertex loses its last)
-    source_normals: object = None  # (input faces, 3) unit normal of every input face
+    source_normals: object = None  # (run faces, 3) unit normal of every input face
     max_error_seen: float = 0.0
     ladder: tuple = ()  # core.guards.relaxation_ladder of this run
     guards: object = None  # the ladder step in force
     removed_components: int = 0
-    input_quality: object = None  # (run faces,) triangle quality, indexed like face_origin
-    sliver_allowance: float = 0.0  # core.slivers.sliver_allowance of the input
-    floor_off: bool = False  # this pass: fewer slivers than the allowance, the sliver floor is off
-    worst_input_quality: object = None  # (n,) core.slivers.worst_input_quality, carried through collapses
+    slivers: object = None  # InputSlivers
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
-    key_quadrics: object = None  # (K, n, 10) core.shape_keys, when shape-key offsets are carried
-    key_columns: tuple = ()  # slice of X holding each of those keys' offsets
-    key_index: object = None  # (3K,) those columns of X, key by key
-    key_weights: object = None  # (K,) what each key's error counts (shape_keys.key_weights)
-    key_scale: float = 1.0  # offsets are in input units; positions are normalised
-    tracker: object = None  # core.tracked_distance, when max_error bounds the distance
-    far_rejected: object = None  # (k,) per edge: last rejected by the distance bound
+    keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
+    bound: object = None  # DistanceBound, when max_error bounds the distance
     collapses: int = 0  # edge collapses applied so far
-    max_error: object = None  # that bound (normalised units), or None
     heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
 
@@ -146,18 +167,17 @@ def run(p: Problem) -> list:
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
     if p.max_error is not None:
-        s.max_error = p.max_error[0]
-        s.tracker = TrackedDistance(p.vertices, F, p.face_origin, p.run_faces)
-        s.far_rejected = np.zeros(len(conn.edges), dtype=bool)
+        s.bound = DistanceBound(TrackedDistance(p.vertices, F, p.face_origin, p.run_faces), p.max_error[0],
+                                np.zeros(len(conn.edges), dtype=bool))
     if p.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
-    s.input_quality = np.ones(p.run_faces)
+    input_quality = np.ones(p.run_faces)
     # A face core.stitching split is judged by the face it was split from: the fan's thin
     # triangles are no sliver of the input's, nor are their normals (nearly degenerate) a
     # reference for rule no_turn_over.
-    s.input_quality[p.face_origin] = triangle_quality(s.V, s.F if p.unsplit_faces is None else p.unsplit_faces)
-    s.worst_input_quality = slivers.worst_input_quality(s.F, n, s.input_quality[p.face_origin])
-    s.sliver_allowance = slivers.sliver_allowance(s.input_quality[p.face_origin])
+    input_quality[p.face_origin] = triangle_quality(s.V, s.F if p.unsplit_faces is None else p.unsplit_faces)
+    s.slivers = InputSlivers(input_quality, slivers.worst_input_quality(s.F, n, input_quality[p.face_origin]),
+                             slivers.sliver_allowance(input_quality[p.face_origin]))
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
 
@@ -179,7 +199,7 @@ def run(p: Problem) -> list:
         if len(s.F) <= target + 0 or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
-            if s.tracker is not None and level < len(p.targets) and p.max_error[level] > s.max_error:
+            if s.bound is not None and level < len(p.targets) and p.max_error[level] > s.bound.limit:
                 _loosen(s, p.max_error[level])  # a chain of bounds: each level under its own
                 if stop == STOP_MAX_ERROR:
                     stop = STOP_TARGET
@@ -197,7 +217,7 @@ def run(p: Problem) -> list:
 def _loosen(s: State, bound: float):
     """The next, larger distance bound of a chain: what the last one rejected gets a new
     chance (and, as in _unstick, the pass may have found no candidate: no cost to reuse)."""
-    s.max_error = bound
+    s.bound.limit = bound
     _forget_rejections(s)
 
 
@@ -206,15 +226,15 @@ def _forget_rejections(s: State):
     (after a rule relaxed or the bound grew, or when the edges were rebuilt), and no
     cached cost is reused."""
     s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
-    s.cost_cache = None
-    if s.tracker is not None:
-        s.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
+    s.cache = None
+    if s.bound is not None:
+        s.bound.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
 
 
 def _distance_blocks(s: State) -> bool:
     """Whether an edge the distance bound rejected is still waiting (its neighbourhood
     unchanged since): then the bound, not a quality rule, is what stops the run."""
-    far = np.flatnonzero(s.far_rejected)
+    far = np.flatnonzero(s.bound.far_rejected)
     if len(far) == 0:
         return False
     ends = s.conn.edges[far]
@@ -228,16 +248,20 @@ def _shape_keys(s: State, p: Problem, names, X, area):
 
     def columns(group):
         return [slice(starts[names.index(k)], starts[names.index(k)] + 3) for k in group]
-    s.key_scale = 1.0 / p.scale
+    scale = 1.0 / p.scale
     key_columns, pose_columns = columns(p.shape_attributes), columns(p.pose_attributes)
     if key_columns:
-        offsets = np.stack([X[:, c] for c in key_columns]) * s.key_scale
+        offsets = np.stack([X[:, c] for c in key_columns]) * scale
         key_columns = [key_columns[i] for i in shape_keys.strongest(offsets, area)]
-    s.key_columns = tuple(key_columns + pose_columns)
-    s.key_index = np.concatenate([np.arange(c.start, c.stop) for c in s.key_columns])
-    s.key_weights = shape_keys.key_weights(len(key_columns), len(pose_columns), p.pose_weight)
-    offsets = np.stack([X[:, c] for c in s.key_columns]) * s.key_scale
-    s.key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets)
+    all_columns = tuple(key_columns + pose_columns)
+    offsets = np.stack([X[:, c] for c in all_columns]) * scale
+    s.keys = KeyOffsets(
+        quadrics=shape_keys.vertex_quadrics(s.V, s.F, offsets),
+        columns=all_columns,
+        index=np.concatenate([np.arange(c.start, c.stop) for c in all_columns]),
+        weights=shape_keys.key_weights(len(key_columns), len(pose_columns), p.pose_weight),
+        scale=scale,
+    )
 
 
 def _unstick(s: State, p: Problem, target: int):
@@ -251,7 +275,7 @@ def _unstick(s: State, p: Problem, target: int):
         _forget_rejections(s)
         return None
     # A removed part is as far from the LOD as can be: not under a distance bound.
-    if p.remove_small_components and s.tracker is None:
+    if p.remove_small_components and s.bound is None:
         dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
         if dropped is not None:
             faces, parts = dropped
@@ -275,11 +299,11 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         # What is left was rejected. Where the distance bound still holds an edge back, it
         # is what stops the run: relaxing the quality rules would only buy slivers under
         # the same bound. Otherwise the rules relax (_unstick) as for a face target.
-        return STOP_MAX_ERROR if s.tracker is not None and _distance_blocks(s) else STOP_TOPOLOGY
-    s.floor_off = slivers.within_allowance(s.V, s.F, s.sliver_allowance)
+        return STOP_MAX_ERROR if s.bound is not None and _distance_blocks(s) else STOP_TOPOLOGY
+    s.slivers.floor_off = slivers.within_allowance(s.V, s.F, s.slivers.allowance)
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
-    if not s.sliver_allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
-        cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.input_quality, s.guards.min_quality, conn, cand)
+    if not s.slivers.allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
+        cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
@@ -292,8 +316,8 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         chosen = chosen[:upto]
     if len(chosen):
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(mean_sq[chosen].max())))
-        if s.tracker is not None:
-            s.tracker.commit(cand.edge[chosen])
+        if s.bound is not None:
+            s.bound.tracker.commit(cand.edge[chosen])
         _apply(s, conn, cand, chosen, pass_no)
     return None
 
@@ -443,8 +467,8 @@ def _remember_rejections(s: State, conn, cand, rejected, pass_no):
     if len(rejected) == 0:
         return
     s.rejected_pass[cand.edge[rejected]] = pass_no
-    if s.tracker is not None:
-        s.far_rejected[cand.edge[rejected]] = np.isin(cand.edge[rejected], s.tracker.rejected_edges)
+    if s.bound is not None:
+        s.bound.far_rejected[cand.edge[rejected]] = np.isin(cand.edge[rejected], s.bound.tracker.rejected_edges)
 
 
 def _apply(s: State, conn, cand, chosen, pass_no):
@@ -460,10 +484,10 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
     s.V[keep] = pos
     quadrics.merge_rows(s.Q, keep, remove)
-    if s.key_quadrics is not None:
-        s.key_quadrics[:, keep] += s.key_quadrics[:, remove]
+    if s.keys is not None:
+        s.keys.quadrics[:, keep] += s.keys.quadrics[:, remove]
     s.area[keep] += s.area[remove]
-    s.worst_input_quality[keep] = np.minimum(s.worst_input_quality[keep], s.worst_input_quality[remove])
+    s.slivers.worst[keep] = np.minimum(s.slivers.worst[keep], s.slivers.worst[remove])
     remap = np.arange(len(s.V))
     remap[remove] = keep
     F = remap[s.F]
@@ -481,9 +505,10 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     else:
         s.conn, surviving_edges = carried
         s.rejected_pass = s.rejected_pass.compress(surviving_edges)
-        s.cost_slot = s.cost_slot.compress(surviving_edges)
-        if s.far_rejected is not None:
-            s.far_rejected = s.far_rejected.compress(surviving_edges)
+        if s.cache is not None:
+            s.cache.slot = s.cache.slot.compress(surviving_edges)
+        if s.bound is not None:
+            s.bound.far_rejected = s.bound.far_rejected.compress(surviving_edges)
     if s.wedges is not None:
         s.wedges.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
@@ -550,7 +575,7 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         passes=passes,
         seconds=seconds,
         stop_reason=stop if len(s.F) > target else STOP_TARGET,
-        max_error=(s.max_error_seen if s.tracker is None else s.tracker.largest()) * p.scale,
+        max_error=(s.max_error_seen if s.bound is None else s.bound.tracker.largest()) * p.scale,
         welded_vertices=p.welded,
         relaxation_step=s.guards.step,
         removed_components=s.removed_components,

@@ -36,6 +36,18 @@ class Candidates:
         return Candidates(self.edge[mask], self.keep[mask], self.remove[mask], self.position[mask], self.cost[mask])
 
 
+@dataclass
+class CostCache:
+    """Last pass's candidates: ``keep``, ``position`` (k, 3) and ``cost`` of each, and
+    ``slot`` (edges,) the row of each edge among them, or -1 (core.selection reuses a
+    row where neither end changed)."""
+
+    keep: np.ndarray
+    position: np.ndarray
+    cost: np.ndarray
+    slot: np.ndarray
+
+
 def candidates(s, conn, kind, pass_no) -> Candidates:
     """Every edge allowed to collapse now, with its optimal position and cost."""
     n = len(s.V)
@@ -62,9 +74,9 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
 
     # Reuse last pass's position and cost where neither end changed (quadric, position
     # or kind): most of the mesh is untouched by any one pass.
-    if s.cost_cache is not None:
-        ckeep, cpos, ccost = s.cost_cache
-        at = s.cost_slot[idx]
+    if s.cache is not None:
+        ckeep, cpos, ccost = s.cache.keep, s.cache.position, s.cache.cost
+        at = s.cache.slot[idx]
         cached = at >= 0
         at = np.where(cached, at, 0)
         reuse = cached & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
@@ -81,9 +93,9 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
         rows_ = fresh[part]
         position[rows_], cost[rows_] = _optimal(s, keep[rows_], remove[rows_], k_keep[rows_], k_remove[rows_])
         s.heartbeat.beat()
-    s.cost_cache = (keep, position, cost)
-    s.cost_slot = np.full(len(conn.edges), -1, dtype=np.int64)
-    s.cost_slot[idx] = np.arange(len(idx))
+    slot = np.full(len(conn.edges), -1, dtype=np.int64)
+    slot[idx] = np.arange(len(idx))
+    s.cache = CostCache(keep, position, cost, slot)
     return Candidates(idx, keep, remove, position, cost)
 
 
@@ -99,14 +111,15 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
     error = quadrics.evaluate(q, position)
-    if s.key_quadrics is not None:
+    if s.keys is not None:
         # At each shape key's full value (and in each sample pose, core.skinning) the
         # merged vertex moves by its interpolated offset.
         t = edge_parameter(v_keep, v_remove, position)[:, None]
         # Every key's columns gathered at once (k, 3K), then laid out key by key (K, k, 3).
-        x_keep, x_remove = s.X[keep[:, None], s.key_index], s.X[remove[:, None], s.key_index]
-        merged = ((x_keep + t * (x_remove - x_keep)) * s.key_scale).reshape(len(keep), -1, 3).transpose(1, 0, 2)
-        error = error + shape_keys.collapse_error(s.key_quadrics, keep, remove, position, merged, s.key_weights)
+        keys = s.keys
+        x_keep, x_remove = s.X[keep[:, None], keys.index], s.X[remove[:, None], keys.index]
+        merged = ((x_keep + t * (x_remove - x_keep)) * keys.scale).reshape(len(keep), -1, 3).transpose(1, 0, 2)
+        error = error + shape_keys.collapse_error(keys.quadrics, keep, remove, position, merged, keys.weights)
     if not s.cost_per_area:
         return position, error
     area = np.maximum(s.area[keep] + s.area[remove], 1e-300)

@@ -66,9 +66,9 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
 
     source = rows(s.source_normals, s.face_origin[faces])
     guards = s.guards
-    floor = 0.0 if s.floor_off else guards.min_quality  # core.slivers.sliver_allowance
+    floor = 0.0 if s.slivers.floor_off else guards.min_quality  # core.slivers.sliver_allowance
     if floor > 0 and conn.border_vertex.any():
-        floor = slivers.border_floors(floor, s.worst_input_quality, conn.border_vertex, keep, remove,
+        floor = slivers.border_floors(floor, s.slivers.worst, conn.border_vertex, keep, remove,
                                       nb_next, nb_prev, collapse)
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
                         dying, collapse, c, source, guards.min_normal_cosine, floor)
@@ -77,9 +77,9 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     if s.wedges is not None:
         ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
                                 guards.min_uv_area_kept, guards.uv_flip)
-    if s.tracker is not None:
-        s.tracker.rejected_edges = np.zeros(0, dtype=np.int64)
-    if s.tracker is not None and ok.any():
+    if s.bound is not None:
+        s.bound.tracker.rejected_edges = np.zeros(0, dtype=np.int64)
+    if s.bound is not None and ok.any():
         # Rule max_error: only for what passed the rest (the measuring is the dear part).
         # Each face of the old fans once: a face on the edge is gathered from both ends.
         fan = ok[collapse] & (from_keep | ~dying)
@@ -89,7 +89,7 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         swap = dying[fan] & (ring[:, 1] == other_end[fan])
         ring[swap] = ring[swap][:, ::-1]
         moved = np.linalg.norm(new_tri[:, 0] - rows(s.V, moving[fan]), axis=1)
-        ok &= s.tracker.within(s.max_error, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], ring,
+        ok &= s.bound.tracker.within(s.bound.limit, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], ring,
                                moving[fan], moved, keep, edge)
     return ok
 
