@@ -596,7 +596,8 @@ def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
 def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share) -> tuple:
     """(the levels kept, each one's requested deviation, their measurements by id).
 
-    First the core's tracked distance bound (deviation_targets.by_tracked_bounds); for
+    First the core's tracked distance bound (deviation_targets.by_tracked_bounds), with
+    the artist's controls and lean (the fewer triangles win, deviation_targets.LEAN_*); for
     a deviation it does not meet, the ladder: per requested deviation the coarsest rung
     measured within it (deviation_targets.choose_levels), refined between rungs. A
     deviation neither meets is left out with a warning, and none met is a LodError."""
@@ -610,6 +611,13 @@ def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share
 
     found = deviation_targets.by_tracked_bounds(
         lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
+    options = lod_input.core_options
+    if options.line_weights is None and options.pose_offsets is None:
+        # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
+        lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
+                "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
+        found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
+            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean), exact))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share)
         for f in found:

@@ -138,3 +138,18 @@ def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
     """Two bounds that give the same level (a topology limit): the second is left out."""
     found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
     assert found[0].level is not None and found[1].level is None
+
+
+def _found(deviation, faces):
+    level = None if faces is None else SimpleNamespace(faces=np.zeros((faces, 3), dtype=np.int64))
+    return dt.Found(deviation, level, float("nan") if faces is None else 0.5 * deviation)
+
+
+def test_each_deviation_keeps_the_run_with_fewer_triangles():
+    mine = [_found(1.0, 900), _found(2.0, None), _found(4.0, 300)]
+    lean = [_found(1.0, 800), _found(2.0, 500), _found(4.0, 350)]
+    kept = dt.fewest_each(mine, lean)
+    assert [len(f.level.faces) for f in kept] == [800, 500, 300]
+    # Still each coarser than the one before: a lean level no coarser is left out.
+    kept = dt.fewest_each([_found(1.0, 900), _found(2.0, 950)], [_found(1.0, 400), _found(2.0, None)])
+    assert len(kept[0].level.faces) == 400 and kept[1].level is None
