@@ -95,8 +95,8 @@ class _Sequential:
         n = len(p.vertices)
         conn = topology.build(p.faces, n)
         Q, area = vertex_quadrics.build(
-            p.vertices, p.faces, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
-            p.feature_edges, p.feature_edge_weights, p.probabilistic_sigma,
+            p.vertices, p.faces, conn, p.line_weights, p.quadric_scale, p.options.boundary_weight,
+            p.feature_edges, p.feature_edge_weights, p.options.probabilistic_sigma,
         )
         self.V = p.vertices.copy()  # (n, 3) normalised units
         self.Q = np.ascontiguousarray(Q)  # (n, 10) row-major: one row read/written per end

@@ -143,8 +143,8 @@ def run(p: Problem) -> list:
     feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
     heartbeat.beat()
     Q, area = vertex_quadrics.build(
-        p.vertices, F, conn, p.line_weights, p.quadric_scale, p.boundary_weight,
-        feature_edges, feature_weights, p.probabilistic_sigma, p.line_scale_exponent,
+        p.vertices, F, conn, p.line_weights, p.quadric_scale, p.options.boundary_weight,
+        feature_edges, feature_weights, p.options.probabilistic_sigma, p.options.line_scale_exponent,
     )
     heartbeat.beat()
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
@@ -152,7 +152,7 @@ def run(p: Problem) -> list:
     heartbeat.beat()
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
-    wedges = Wedges.build(F, p.corner_attributes, p.uv_attributes) if p.corner_attributes else None
+    wedges = Wedges.build(F, p.corner_attributes, p.options.uv_attributes) if p.corner_attributes else None
     s = State(
         V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=p.locked, complex=complex_, corners=corners,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
@@ -162,14 +162,14 @@ def run(p: Problem) -> list:
         moved=np.zeros(n, dtype=bool),
         face_count=np.bincount(F.ravel(), minlength=n),
         source_normals=_source_normals(p, face_normals),
-        ladder=relaxation_ladder(p.min_quality),
+        ladder=relaxation_ladder(p.options.min_quality),
     )
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
     if p.max_error is not None:
         s.bound = DistanceBound(TrackedDistance(p.vertices, F, p.face_origin, p.run_faces), p.max_error[0],
                                 np.zeros(len(conn.edges), dtype=bool))
-    if p.shape_attributes or p.pose_attributes:
+    if p.options.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
     input_quality = np.ones(p.run_faces)
     # A face core.stitching split is judged by the face it was split from: the fan's thin
@@ -205,7 +205,7 @@ def run(p: Problem) -> list:
                     stop = STOP_TARGET
             continue
         passes += 1
-        outcome = _one_pass(s, passes, target, p.seed, p.preserve_seams)
+        outcome = _one_pass(s, passes, target, p.options.seed, p.options.preserve_seams)
         if outcome == STOP_TOPOLOGY:
             outcome = _unstick(s, p, target)
         if outcome is not None:
@@ -249,7 +249,7 @@ def _shape_keys(s: State, p: Problem, names, X, area):
     def columns(group):
         return [slice(starts[names.index(k)], starts[names.index(k)] + 3) for k in group]
     scale = 1.0 / p.scale
-    key_columns, pose_columns = columns(p.shape_attributes), columns(p.pose_attributes)
+    key_columns, pose_columns = columns(p.options.shape_attributes), columns(p.pose_attributes)
     if key_columns:
         offsets = np.stack([X[:, c] for c in key_columns]) * scale
         key_columns = [key_columns[i] for i in shape_keys.strongest(offsets, area)]
@@ -259,7 +259,7 @@ def _shape_keys(s: State, p: Problem, names, X, area):
         quadrics=shape_keys.vertex_quadrics(s.V, s.F, offsets),
         columns=all_columns,
         index=np.concatenate([np.arange(c.start, c.stop) for c in all_columns]),
-        weights=shape_keys.key_weights(len(key_columns), len(pose_columns), p.pose_weight),
+        weights=shape_keys.key_weights(len(key_columns), len(pose_columns), p.options.pose_weight),
         scale=scale,
     )
 
@@ -275,7 +275,7 @@ def _unstick(s: State, p: Problem, target: int):
         _forget_rejections(s)
         return None
     # A removed part is as far from the LOD as can be: not under a distance bound.
-    if p.remove_small_components and s.bound is None:
+    if p.options.remove_small_components and s.bound is None:
         dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
         if dropped is not None:
             faces, parts = dropped
@@ -327,16 +327,16 @@ def _features(p: Problem, conn, face_normals, face_areas) -> tuple:
     edge once, the given weight winning), their weights, and the (n,) corners: where
     three or more of them meet, and where an open boundary has a corner (features.boundary_corners)."""
     edges, weights = p.feature_edges, p.feature_edge_weights
-    if p.feature_angle:
-        crease = conn.edges[features.crease_edges(face_normals, conn, p.feature_angle)]
+    if p.options.feature_angle:
+        crease = conn.edges[features.crease_edges(face_normals, conn, p.options.feature_angle)]
         given = np.sort(edges, axis=1) if len(edges) else edges
         n = len(p.vertices)
         new = ~np.isin(crease[:, 0] * np.int64(n) + crease[:, 1], given[:, 0] * np.int64(n) + given[:, 1]) \
             if len(given) else np.ones(len(crease), dtype=bool)
         edges = np.concatenate([edges.reshape(-1, 2), crease[new]])
-        weights = np.concatenate([weights, np.full(int(new.sum()), p.feature_weight)])
+        weights = np.concatenate([weights, np.full(int(new.sum()), p.options.feature_weight)])
         corners = features.corners(edges, n) | features.boundary_corners(
-            p.vertices, p.faces, face_normals, face_areas, conn, p.feature_angle)
+            p.vertices, p.faces, face_normals, face_areas, conn, p.options.feature_angle)
         return edges, weights, corners
     return edges, weights, np.zeros(len(p.vertices), dtype=bool)
 
@@ -557,7 +557,7 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         col += k
         if name in p.pose_attributes:  # in the error only, not carried
             continue
-        if name in p.normalize_attributes:
+        if name in p.options.normalize_attributes:
             vals = _renormalise(vals, p.vertex_attributes[name][kept])
         vattrs[name] = vals
     cattrs = s.wedges.corner_values() if s.wedges is not None else {}

@@ -10,6 +10,7 @@ windings and face origins (core.engine._snapshot).
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Optional
 
@@ -29,6 +30,10 @@ ZERO_AREA_QUALITY = 1e-6
 
 @dataclass
 class Problem:
+    """What the engine runs on: the Options it came from (checked: ``options``) and the
+    arrays derived from them and the input, in normalised units."""
+
+    options: Options  # as given, checked (feature_angle 0 is None: off)
     vertices: np.ndarray  # normalised: centred on the bounding box, unit diagonal
     input_positions: np.ndarray  # as given: vertices that never move come back bit-exact
     faces: np.ndarray  # engine.run takes them over and sets this to None (memory, see there)
@@ -36,28 +41,15 @@ class Problem:
     vertex_origin: np.ndarray
     targets: list
     max_error: object  # one bound per target, normalised units, or None
-    line_weights: np.ndarray  # w_i of Eq. 16
+    line_weights: np.ndarray  # w_i of Eq. 16, per vertex
     quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
-    line_scale_exponent: float  # the line quadric is scaled by quadric_scale ** this
-    boundary_weight: float
-    probabilistic_sigma: float
-    locked: np.ndarray
+    locked: np.ndarray  # (n,) bool
     progress: object
-    seed: int
-    vertex_attributes: dict
-    normalize_attributes: tuple
+    vertex_attributes: dict  # options.vertex_attributes plus the sample poses' offsets
     corner_attributes: dict
-    uv_attributes: tuple
-    preserve_seams: bool
-    feature_edges: np.ndarray
-    feature_edge_weights: np.ndarray
-    feature_weight: float
-    feature_angle: object  # degrees, or None: no creases found from the geometry
-    min_quality: float
-    remove_small_components: bool
-    shape_attributes: tuple  # names of vertex attributes that are shape-key offsets (n, 3)
+    feature_edges: np.ndarray  # (k, 2), welded
+    feature_edge_weights: np.ndarray  # (k,)
     pose_attributes: tuple  # names of the vertex attributes that hold pose_offsets (error only)
-    pose_weight: float
     center: np.ndarray
     scale: float
     input_vertices: int
@@ -71,9 +63,71 @@ class Problem:
     renumbered: bool = False  # vertices and faces in core.locality's order, not the input's
 
 
+@dataclass
+class Checked:
+    """Every argument checked (core.checks), as arrays, in the input's units."""
+
+    options: Options
+    vertices: np.ndarray
+    faces: np.ndarray
+    targets: list
+    max_error: object
+    line_weights: np.ndarray
+    quadric_scale: object
+    locked: np.ndarray
+    vertex_attributes: dict
+    corner_attributes: dict
+    feature_edges: np.ndarray
+    feature_edge_weights: np.ndarray
+    pose_attributes: tuple
+
+
 def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, progress=None) -> Problem:
-    """Check every argument (ValueError naming the problem) and clean the input."""
-    o = Options() if o is None else o
+    """Check every argument (ValueError naming the problem), normalise the positions,
+    clean the input (weld, drop what cannot be simplified), renumber a large mesh for
+    locality and repair what exporters write (core.repair): the steps below, in order."""
+    c = checked(vertices, faces, targets, Options() if o is None else o, progress)
+    center, scale = _frame(c.vertices)
+    vn = (c.vertices - center) / scale
+    rep, keep, twin = _cleaned(vn, c.faces, c.options.weld_distance, scale)
+    n, m = len(vn), len(c.faces)
+    welded = int(np.count_nonzero(rep != np.arange(n)))
+    locked, line_weights, quadric_scale = c.locked, c.line_weights, c.quadric_scale
+    if welded:  # welded vertices pool their locks, weights and scales: the strongest wins
+        locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
+        line_weights = _max_by_group(line_weights, rep, n)
+        if quadric_scale is not None:
+            quadric_scale = _max_by_group(quadric_scale, rep, n)
+    problem = locality.reorder(Problem(
+        options=c.options,
+        vertices=vn,
+        input_positions=c.vertices,
+        faces=rep[c.faces][keep] if m else c.faces,
+        face_origin=np.flatnonzero(keep),
+        vertex_origin=np.arange(n),
+        targets=c.targets,
+        max_error=None if c.max_error is None else [e / scale for e in c.max_error],
+        line_weights=line_weights,
+        quadric_scale=quadric_scale,
+        locked=locked,
+        progress=progress,
+        vertex_attributes=c.vertex_attributes,
+        corner_attributes={k: a[keep] for k, a in c.corner_attributes.items()},
+        feature_edges=rep[c.feature_edges] if len(c.feature_edges) else c.feature_edges,
+        feature_edge_weights=c.feature_edge_weights,
+        pose_attributes=c.pose_attributes,
+        center=center,
+        scale=scale,
+        input_vertices=n,
+        input_faces=m,
+        welded=welded,
+        run_faces=m,
+    ))
+    return repair.repaired(problem, twin, stitch=bool(c.options.stitch_cracks))
+
+
+def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
+    """Every argument checked, ValueError naming the first problem found."""
     v = checks.as_vertices(vertices)
     n = len(v)
     f = checks.as_faces(faces, n)
@@ -98,17 +152,14 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     locked = np.zeros(n, dtype=bool) if o.locked is None else checks.per_vertex(o.locked, n, "locked", dtype=bool)
     if progress is not None and not callable(progress):
         raise ValueError("progress must be callable (fraction) -> bool")
-    seed = o.seed
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed must be an integer, got {seed!r}")
+    if isinstance(o.seed, bool) or not isinstance(o.seed, (int, np.integer)):
+        raise ValueError(f"seed must be an integer, got {o.seed!r}")
     vattrs = checks.vertex_attributes(o.vertex_attributes, n)
-    normalize = tuple(o.normalize_attributes or ())
-    for name in normalize:
+    for name in o.normalize_attributes or ():
         if name not in vattrs:
             raise ValueError(f"normalize_attributes names {name!r}, which is not a vertex attribute")
     cattrs = checks.corner_attributes(o.corner_attributes, m)
-    uvs = tuple(o.uv_attributes or ())
-    for name in uvs:
+    for name in o.uv_attributes or ():
         if name not in cattrs or cattrs[name].shape[2] != 2:
             raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
     fe = checks.edge_list(o.feature_edges if o.feature_edges is not None else [], n, "feature_edges")
@@ -131,8 +182,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
             raise ValueError(f"edge_weights must have one value per feature edge ({len(fe)}), got shape {few.shape}")
         if not np.isfinite(few).all() or (few < 0).any():
             raise ValueError("edge_weights must be finite and >= 0")
-    shapes = tuple(o.shape_attributes or ())
-    for name in shapes:
+    for name in o.shape_attributes or ():
         if name not in vattrs or vattrs[name].shape[1] != 3:
             raise ValueError(f"shape_attributes names {name!r}, which is not a 3-component vertex attribute")
     pose_weight = checks.non_negative(o.pose_weight, "pose_weight")
@@ -149,82 +199,47 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         poses = tuple(f"\0pose{i}" for i in range(len(offsets)))
         for name, offset in zip(poses, offsets):
             vattrs[name] = offset
-    weld_distance = o.weld_distance
-    if weld_distance is not None:
-        weld_distance = float(weld_distance)
+    options = dataclasses.replace(
+        o, feature_angle=feature_angle, seed=int(o.seed), line_scale_exponent=line_scale_exponent,
+        boundary_weight=boundary_weight, probabilistic_sigma=probabilistic_sigma, feature_weight=feature_weight,
+        min_quality=min_quality, pose_weight=pose_weight, preserve_seams=bool(o.preserve_seams),
+        remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
+        uv_attributes=tuple(o.uv_attributes or ()), shape_attributes=tuple(o.shape_attributes or ()),
+        weld_distance=None if o.weld_distance is None else float(o.weld_distance))
+    return Checked(options, v, f, tgt, max_error, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few, poses)
 
-    # Normalise positions: quadric sums of large coordinates lose precision to cancellation.
-    if n:
-        lo, hi = v.min(axis=0), v.max(axis=0)
-        center = 0.5 * (lo + hi)
-        scale = float(np.linalg.norm(hi - lo)) or 1.0
-    else:
-        center, scale = np.zeros(3), 1.0
-    vn = (v - center) / scale
-    if max_error is not None:
-        max_error = [e / scale for e in max_error]
 
-    # Weld coincident vertices (exported assets), then drop faces that became degenerate
-    # or duplicate: they cannot be simplified and would break the manifold checks.
-    rep = weld_map(vn, None if weld_distance is None else (weld_distance / scale if weld_distance > 0 else weld_distance))
-    welded = int(np.count_nonzero(rep != np.arange(n)))
-    fw = rep[f] if m else f
+def _frame(v: np.ndarray) -> tuple:
+    """(center, scale) of the normalised frame: centred on the bounding box, unit
+    diagonal. Quadric sums of large coordinates lose precision to cancellation."""
+    if len(v) == 0:
+        return np.zeros(3), 1.0
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    return 0.5 * (lo + hi), float(np.linalg.norm(hi - lo)) or 1.0
+
+
+def _cleaned(vn: np.ndarray, f: np.ndarray, weld_distance, scale: float) -> tuple:
+    """(rep, keep, twin): each vertex's weld representative (n,), the faces kept (m,)
+    bool, and each face's first copy wound the other way or -1 (m,) (None without faces).
+
+    Coincident vertices (exported assets) are welded; then faces that became degenerate,
+    repeat another face or have zero area are dropped: they cannot be simplified and would
+    break the manifold checks."""
+    n, m = len(vn), len(f)
+    distance = None if weld_distance is None else (weld_distance / scale if weld_distance > 0 else weld_distance)
+    rep = weld_map(vn, distance)
+    if m == 0:
+        return rep, np.zeros(0, dtype=bool), None
+    fw = rep[f]
     keep = (fw[:, 0] != fw[:, 1]) & (fw[:, 1] != fw[:, 2]) & (fw[:, 0] != fw[:, 2])
-    twin = None
-    if m:
-        first, twin = _first_copies(fw, n)
-        keep &= first
-        # Faces whose corners lie on one line (to float32 precision) have no area to keep
-        # and no normal; exporters write them where they bridge a T-junction, (a, m, b)
-        # beside a face on (a, b), which puts three faces on that edge. Without them the
-        # junction is an open slit, which core.stitching closes.
-        keep[keep] &= triangle_quality(vn, fw[keep]) >= ZERO_AREA_QUALITY
-    face_origin = np.flatnonzero(keep)
-    # Welded vertices pool their locks, weights and scales: the strongest wins.
-    if welded:
-        locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
-        line_weights = _max_by_group(line_weights, rep, n)
-        if quadric_scale is not None:
-            quadric_scale = _max_by_group(quadric_scale, rep, n)
-
-    problem = locality.reorder(Problem(
-        vertices=vn,
-        input_positions=v,
-        faces=fw[keep],
-        face_origin=face_origin,
-        vertex_origin=np.arange(n),
-        targets=tgt,
-        max_error=max_error,
-        line_weights=line_weights,
-        quadric_scale=quadric_scale,
-        line_scale_exponent=line_scale_exponent,
-        boundary_weight=boundary_weight,
-        probabilistic_sigma=probabilistic_sigma,
-        locked=locked,
-        progress=progress,
-        seed=int(seed),
-        vertex_attributes=vattrs,
-        normalize_attributes=normalize,
-        corner_attributes={k: a[keep] for k, a in cattrs.items()},
-        uv_attributes=uvs,
-        preserve_seams=bool(o.preserve_seams),
-        feature_edges=rep[fe] if len(fe) else fe,
-        feature_edge_weights=few,
-        feature_weight=feature_weight,
-        feature_angle=feature_angle,
-        min_quality=min_quality,
-        remove_small_components=bool(o.remove_small_components),
-        shape_attributes=shapes,
-        pose_attributes=poses,
-        pose_weight=pose_weight,
-        center=center,
-        scale=scale,
-        input_vertices=n,
-        input_faces=m,
-        welded=welded,
-        run_faces=m,
-    ))
-    return repair.repaired(problem, twin, stitch=bool(o.stitch_cracks))
+    first, twin = _first_copies(fw, n)
+    keep &= first
+    # Faces whose corners lie on one line (to float32 precision) have no area to keep
+    # and no normal; exporters write them where they bridge a T-junction, (a, m, b)
+    # beside a face on (a, b), which puts three faces on that edge. Without them the
+    # junction is an open slit, which core.stitching closes.
+    keep[keep] &= triangle_quality(vn, fw[keep]) >= ZERO_AREA_QUALITY
+    return rep, keep, twin
 
 
 def _first_copies(faces: np.ndarray, n: int) -> tuple:
