@@ -354,34 +354,19 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     Several selection rounds: each takes the local minima among candidates whose ends lie
     outside the closed one-rings of the collapses already taken, so later rounds never
     interfere with earlier ones and one connectivity update serves many more collapses.
-
-    Rounds in which every chosen collapse was rejected change nothing, so they do not
-    count: the pass goes on choosing (among the next cheapest share of what it has not
-    tried, once the first share is spent) until a round takes something or every
-    candidate was tried. A new pass would only choose the same edges again, after
-    rebuilding what nothing changed: on a CAD part of 9k faces, two passes in three took
-    nothing before this (1,369 passes, 2.4 s).
     """
     taken = []
     # Greedy order, approximately: only the cheapest share of candidates may go this
     # pass, so costly regions wait for later passes as they would in a sequential queue.
     pass_limit, later_limit = _cost_quantiles(cand.cost, (share, share * LATER_ROUND_SHARE))
     eligible = cand.cost <= pass_limit
-    untried = np.ones(len(cand.cost), dtype=bool)
     window = None  # later rounds look only at the faces around what is still eligible
     # Faces the pass's collapses take from the corners opposite their edges.
     faces_taken = np.zeros(n, dtype=s.face_count.dtype)
-    counted_rounds = 0
-    while counted_rounds < SELECTION_ROUNDS:
+    for round_no in range(SELECTION_ROUNDS):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
-            if taken or not untried.any():
-                break
-            # The share is spent and none of it could go: the next share of the rest.
-            rest = np.flatnonzero(untried)
-            limit, = _cost_quantiles(cand.cost[rest], (share,))
-            eligible = untried & (cand.cost <= limit)
-            continue
+            break
         # Count every chosen collapse's losses first (a pinched vertex can be opposite
         # several), then give back those of the rejected ones.
         opposite = validation.opposite_corners(s.F, conn, cand.edge[chosen])
@@ -393,17 +378,13 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
         _remember_rejections(s, conn, cand, chosen[~ok], pass_no)
         s.heartbeat.beat()
         eligible[chosen] = False
-        untried[chosen] = False
         chosen = chosen[ok]
-        if not taken and len(chosen) == 0:
-            continue  # nothing changed: as if this round had not been
-        counted_rounds += 1
-        if not taken:
+        taken.append(chosen)
+        if round_no == 0:
             # The raw error of a collapse is its mean squared distance times about two
             # vertex areas.
             order_free = ORDER_FREE_COST if s.cost_per_area else ORDER_FREE_COST * 2.0 * s.area_scale
             eligible &= cand.cost <= max(later_limit, order_free)
-        taken.append(chosen)
         if len(chosen) == 0:
             continue
         faces = s.F if window is None else window[1]
