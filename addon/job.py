@@ -13,6 +13,16 @@ The panel and the command line both drive their runs through LodJob: the panel w
 one settings for every selected object and a fraction for its progress bar, the command
 line with settings per object (importance differs between the assets of a batch) and an
 :class:`ObjectObserver` for its per-object progress lines.
+
+Objects whose LODs would be identical are made once: a mesh datablock used by several
+objects (instances, linked duplicates, a CAD assembly's repeated parts) with equal
+settings and nothing of the object's own shaping the input (lod.shared_mesh_key: no
+evaluated geometry modifiers, no armature, no bake) is read, simplified and measured once
+per level, as one group; commit gives every object of the group LOD objects of its own
+(names, transform, parent, collection, object-linked materials) that share the group's
+LOD meshes. ``inputs`` and ``outputs`` are per group (what is computed, what the observer
+and the progress count); ``objects``, ``object_inputs`` and ``object_outputs`` per object,
+and commit() returns one report per object, in the order the objects were given.
 """
 from __future__ import annotations
 
@@ -59,17 +69,48 @@ class LodJob:
         per_object = list(settings) if isinstance(settings, (list, tuple)) else [settings] * len(objects)
         if len(per_object) != len(objects):
             raise ValueError(f"{len(per_object)} settings for {len(objects)} objects")
-        self.inputs = [_prepare(context, ob, s, chain_labels) for ob, s in zip(objects, per_object)]
-        self.outputs = []
+        self.objects = []  # the objects' names, in the order given
+        self.groups = []  # per group: the names of its objects (the first is its input's source)
+        self._group_of = []  # per object: the index of its group
+        self.inputs = []  # per group: what compute() gets
+        shared = {}  # lod.shared_mesh_key -> [(settings, group index)]
+        for ob, s in zip(objects, per_object):
+            key = lod.shared_mesh_key(ob, s)
+            group = None
+            if key is not None:
+                group = next((g for other, g in shared.get(key, ()) if other == s), None)
+            if group is None:
+                self.inputs.append(_prepare(context, ob, s, chain_labels))
+                group = len(self.groups)
+                self.groups.append([])
+                if key is not None:
+                    shared.setdefault(key, []).append((s, group))
+            else:
+                lod.check_source(ob)  # its mesh was read for the group's first object
+            self.groups[group].append(ob.name)
+            self.objects.append(ob.name)
+            self._group_of.append(group)
+        self.outputs = []  # per group, after run()
         self.fraction = 0.0
         self.error: Optional[BaseException] = None
         self._cancel = threading.Event()
         self._thread: Optional[threading.Thread] = None
 
+    @property
+    def object_inputs(self) -> list:
+        """Per object, its group's LodInput (the same one for the objects of a group)."""
+        return [self.inputs[g] for g in self._group_of]
+
+    @property
+    def object_outputs(self) -> list:
+        """Per object, its group's LodOutput (after run())."""
+        return [self.outputs[g] for g in self._group_of]
+
     def run(self, progress: Optional[Callable[[float], object]] = None,
             observer: Optional[ObjectObserver] = None) -> None:
-        """Compute every object's LODs in the calling thread; raises LodCancelled/LodError.
-        ``progress`` gets the fraction of the whole job, ``observer`` each object's."""
+        """Compute every group's LODs in the calling thread; raises LodCancelled/LodError.
+        ``progress`` gets the fraction of the whole job, ``observer`` each group's (started
+        with the group's input, whose source is its first object)."""
         observer = observer or ObjectObserver()
         count = len(self.inputs)
         for index, lod_input in enumerate(self.inputs):
@@ -116,12 +157,16 @@ class LodJob:
         return self.done
 
     def commit(self, context) -> list:
-        """Write and link the LODs (main thread). Raises the worker's error, or
-        LodCancelled if the job was cancelled, before touching any data."""
+        """Write and link the LODs (main thread); one report per object, in the order the
+        objects were given (lod.commit: the objects of a group share its LOD meshes).
+        Raises the worker's error, or LodCancelled if the job was cancelled, before
+        touching any data."""
         if not self.done:
             raise RuntimeError("the LOD job is still running")
         if self.error is not None:
             raise self.error
         if self._cancel.is_set():
             raise lod.LodCancelled("cancelled")
-        return lod.commit(context, self.outputs)
+        if len(self.outputs) != len(self.inputs):
+            raise RuntimeError("the LOD job has not run")
+        return lod.commit(context, self.object_outputs, self.objects)

@@ -10,6 +10,8 @@ Three phases, so a caller can run the expensive middle one in a worker thread:
     prepare(context, obj, settings) -> LodInput      main thread: reads Blender data
     compute(lod_input, progress)    -> LodOutput     any thread: NumPy and the core only
     commit(context, [outputs])      -> [report]      main thread: writes Blender data
+                                                     (an output given for several objects
+                                                     sharing a mesh: LOD meshes made once)
 :func:`generate_lods` chains them for one object.
 """
 from __future__ import annotations
@@ -248,15 +250,48 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
     return options, names
 
 
-def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = ()) -> LodInput:
-    """Check the input and read everything the run needs from Blender (main thread).
-    ``chain_labels``: how a message about the explicit chain names its ratios and triangle
-    counts (LodSettings.targets; the command line: "--ratios", "--faces")."""
+def check_source(source) -> None:
+    """LodError unless ``source`` is a mesh object in Object Mode (prepare's first checks)."""
     if source is None or getattr(source, "type", None) != 'MESH':
         name = getattr(source, "name", source)
         raise LodError(f'"{name}" is not a mesh object')
     if source.mode == 'EDIT':
         raise LodError(f'"{source.name}" is in Edit Mode: switch to Object Mode first')
+
+
+def shared_mesh_key(source, settings: LodSettings):
+    """What objects whose LODs would be identical have in common (their mesh datablock's
+    pointer), or None for an object whose LODs must be made on their own.
+
+    Two objects with the same key and equal settings give prepare() equal inputs, so one
+    compute() serves both and commit() can give both the same LOD meshes: prepare reads
+    such an object through its mesh datablock alone (mesh_io.read_object without the
+    modifier stack: its vertices, faces, attributes, vertex groups and shape keys are the
+    mesh's, whichever object uses it), and nothing else it reads belongs to the object.
+    Kept apart, because the object itself shapes the input or its LODs:
+      * geometry modifiers that the settings evaluate (Use Modifiers): the input is the
+        object's evaluated mesh, which its own stack makes;
+      * an armature (modifier or parent): the skin columns, Source Armature's sample poses
+        (placed by the object's matrix relative to the rig) and the LOD's own Armature
+        modifier come from the object;
+      * Bake Normals: each LOD gets its own baked material copies, made on its mesh.
+    """
+    if getattr(source, "type", None) != 'MESH' or source.data is None:
+        return None
+    if settings.use_modifiers and mesh_io.has_geometry_modifiers(source):
+        return None
+    if armature_of(source) is not None or settings.importance_source in ('ARMATURE', 'ARMATURE_PAPER'):
+        return None
+    if settings.bake_normals:
+        return None
+    return source.data.as_pointer()
+
+
+def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = ()) -> LodInput:
+    """Check the input and read everything the run needs from Blender (main thread).
+    ``chain_labels``: how a message about the explicit chain names its ratios and triangle
+    counts (LodSettings.targets; the command line: "--ratios", "--faces")."""
+    check_source(source)
     settings.validate()
     _, depsgraph = _scene_and_depsgraph(context_or_scene)
     data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
@@ -685,7 +720,10 @@ _ARMATURE_MOD_PROPS = ("object", "use_vertex_groups", "use_bone_envelopes", "use
                        "show_render")
 
 
-def _copy_setup(source, lod, level: int) -> None:
+def _copy_setup(source, lod, level: int, mesh_too: bool = True) -> None:
+    """Give the new LOD object ``lod`` its source's place, materials, custom properties and
+    Armature modifiers. ``mesh_too``: also fill its mesh's material list (False for a LOD
+    mesh another instance's LOD object already set up: the list is the mesh's, shared)."""
     lod.parent = source.parent
     lod.parent_type = source.parent_type
     if source.parent_type == 'BONE':
@@ -695,8 +733,9 @@ def _copy_setup(source, lod, level: int) -> None:
         setattr(lod, prop, getattr(source, prop))
 
     materials = source.data.materials
-    for i in range(len(source.material_slots)):
-        lod.data.materials.append(materials[i] if i < len(materials) else None)
+    if mesh_too:
+        for i in range(len(source.material_slots)):
+            lod.data.materials.append(materials[i] if i < len(materials) else None)
     for i, slot in enumerate(source.material_slots):
         if slot.link == 'OBJECT':
             lod.material_slots[i].link = 'OBJECT'
@@ -791,50 +830,94 @@ def _set_switch_props(ob, numbers) -> None:
         ob[switch_prop(key)] = float(value)
 
 
-def commit(context_or_scene, outputs: list) -> list:
+def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> list:
     """Write the LOD objects of each output and link them (main thread).
+
+    ``sources``: the object (or its name) each output is for; by default each output's own
+    source (``out.input.source_name``). An output given for several objects (the very same
+    LodOutput, e.g. LodJob's for objects sharing one mesh) is written once: its LOD meshes
+    are built for the first of them and every one of them gets LOD objects of its own
+    (names, transform, parent, collection, object-linked materials, custom properties as
+    for any source) that use those meshes.
 
     Everything is built unlinked first; if anything fails, what was built is removed
     and the scene is untouched. Then each source's earlier LODs are replaced.
-    Returns one report dict per output.
+    Returns one report dict per entry of ``outputs``; the report of an object sharing
+    another's LOD meshes names them (``levels[i]["mesh"]``, ``shared_with``), says whose
+    entry has the time (``shares``) and has ``seconds`` 0 (levels' too), so times add up.
     """
     scene, _ = _scene_and_depsgraph(context_or_scene)
-    built = []
+    if sources is None:
+        names = [out.input.source_name for out in outputs]
+    else:
+        if len(sources) != len(outputs):
+            raise ValueError(f"{len(sources)} sources for {len(outputs)} outputs")
+        names = [getattr(s, "name", s) for s in sources]
+    group_names = {}  # id(output) -> names of the objects it is written for, in order
+    for out, name in zip(outputs, names):
+        group_names.setdefault(id(out), []).append(name)
+    built = []  # (source, output, its LOD objects, name of the group's first object or None)
+    lod_meshes = {}  # id(output) -> its LOD meshes, built for the first object given it
+    made = []  # every mesh built, removed again if anything fails
     try:
-        for out in outputs:
-            source = bpy.data.objects.get(out.input.source_name)
+        for out, name in zip(outputs, names):
+            source = bpy.data.objects.get(name)
             if source is None:
-                raise LodError(f'the object "{out.input.source_name}" no longer exists')
+                raise LodError(f'the object "{name}" no longer exists')
+            meshes = lod_meshes.get(id(out))
+            first = meshes is None
+            if first:
+                meshes = lod_meshes[id(out)] = []
             objects = []
-            built.append((source, out, objects))
+            built.append((source, out, objects, None if first else group_names[id(out)][0]))
             for k, level in enumerate(out.levels, start=1):
-                mesh = mesh_io.build_mesh(f"{source.name}_LOD{k}", level)
+                if first:
+                    mesh = mesh_io.build_mesh(f"{source.name}_LOD{k}", level)
+                    made.append(mesh)
+                    meshes.append(mesh)
+                else:
+                    mesh = meshes[k - 1]
                 lod = bpy.data.objects.new(f"{source.name}_LOD{k}.tmp", mesh)
                 objects.append(lod)
-                mesh_io.add_vertex_groups(lod, level)
-                mesh_io.add_shape_keys(lod, level)
-                _copy_setup(source, lod, k)
+                if first:  # both are the mesh's (vertex group names too, since Blender 3.0)
+                    mesh_io.add_vertex_groups(lod, level)
+                    mesh_io.add_shape_keys(lod, level)
+                _copy_setup(source, lod, k, mesh_too=first)
     except BaseException:
-        for _, _, objects in built:
+        for _, _, objects, _ in built:
             for lod in objects:
-                _remove_object_and_mesh(lod)
+                bpy.data.objects.remove(lod)
+        for mesh in made:
+            if mesh.users == 0:
+                vertex_groups.remove_mesh(mesh)
         raise
 
-    reports = []
-    keep = {ob.as_pointer() for _, _, objects in built for ob in objects}
-    keep |= {source.as_pointer() for source, _, _ in built}  # never remove an object being written for
-    for source, out, objects in built:
+    keep = {ob.as_pointer() for _, _, objects, _ in built for ob in objects}
+    keep |= {source.as_pointer() for source, _, _, _ in built}  # never remove an object being written for
+    # Every source's earlier LODs go before any new one is named, so that a LOD mesh several
+    # of them shared is gone (no users left) when the new shared mesh takes its name.
+    for source, _, _, _ in built:
         for old in previous_lods(source.name):
             if old.as_pointer() not in keep:
                 _replace_lod(old)
+    reports = []
+    for source, out, objects, leader in built:
+        group = group_names[id(out)]
         coll = _lod_collection(scene, source)
         for k, lod in enumerate(objects, start=1):
             lod.name = f"{source.name}_LOD{k}"
-            lod.data.name = lod.name
+            if leader is None:
+                # Named as its LOD object, or when several objects' LODs use it, after the
+                # source mesh they all share: "<mesh>_LOD<k>".
+                lod.data.name = lod.name if len(group) == 1 else f"{source.data.name}_LOD{k}"
             coll.objects.link(lod)
-        levels = [dict(entry, name=lod.name) for entry, lod in zip(out.reports, objects)]
+        levels = [dict(entry, name=lod.name, mesh=lod.data.name) for entry, lod in zip(out.reports, objects)]
+        if leader is not None:  # computed once, for the group's first object: its entry has the time
+            for entry in levels:
+                entry["seconds"] = 0.0
         data = out.input.data
-        switch, why_not = _switch_data(source, out)
+        warnings = list(out.input.warnings)
+        switch, why_not = _switch_data(source, out)  # per object: its world scale
         per_level = switch_distances.per_level(switch) if switch else [None] * (len(objects) + 1)
         for ob, numbers in zip([source] + objects, per_level):
             _set_switch_props(ob, numbers)
@@ -844,29 +927,38 @@ def commit(context_or_scene, outputs: list) -> list:
             switch = {key: value for key, value in switch.items() if key not in switch_distances.PER_LEVEL_KEYS}
             switch["lod0"] = per_level[0]
         if why_not:
-            out.input.warnings.append(why_not)
-        if out.input.settings.bake_normals:
-            out.input.warnings.extend(bake.bake_chain(
+            warnings.append(why_not)
+        if out.input.settings.bake_normals and leader is None:
+            # (Into copies of the LOD's materials: the objects sharing its meshes show the
+            # mesh-linked ones; LodJob does not share meshes when baking.)
+            warnings.extend(bake.bake_chain(
                 bpy.context, source, objects, levels, out.input.settings.bake_resolution,
                 measure.bbox_diagonal(data.vertices, data.faces)))
-        reports.append({
+        rep = {
             "object": source.name,
             "collection": coll.name,
+            "source_mesh": source.data.name,
             "source_triangles": int(len(data.faces)),
             "source_vertices": int(len(data.vertices)),
-            "seconds": float(out.seconds),
+            "seconds": float(out.seconds) if leader is None else 0.0,
             "levels": levels,
             "switch": switch,
-            "warnings": list(out.input.warnings),
-        })
+            "warnings": warnings,
+            # The other objects whose LOD objects use the same LOD meshes (made once).
+            "shared_with": [name for name in group if name != source.name],
+        }
+        if leader is not None:
+            rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
+        reports.append(rep)
     return reports
 
 
 def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                   progress: Optional[Callable[[float], object]] = None) -> dict:
     """Make ``source_obj``'s LOD chain and link it into the scene. Returns its report:
-    {object, collection, source_triangles, source_vertices, seconds, warnings,
-     levels: [{level, name, target, triangles, vertices, seconds, stop_reason,
+    {object, collection, source_mesh, source_triangles, source_vertices, seconds, warnings,
+     shared_with (other objects using the same LOD meshes: none here),
+     levels: [{level, name, mesh, target, triangles, vertices, seconds, stop_reason,
                hausdorff_percent, mean_percent, normal_mean_degrees, normal_p95_degrees,
                normal_max_degrees (if measured), mean_quality, min_quality, sliver_percent,
                importance (with importance on: painted_vertices, painted_kept,

@@ -51,7 +51,8 @@ def _summary(reports) -> str:
     parts = []
     for rep in reports:
         counts = " / ".join(f"{lv['triangles']:,}" for lv in rep["levels"])
-        text = f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) in {rep['seconds']:.1f} s"
+        made = f"sharing {rep['shares']}'s LOD meshes" if rep.get("shares") else f"in {rep['seconds']:.1f} s"
+        text = f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) {made}"
         density = [lv["importance"]["painted_density"] for lv in rep["levels"] if "importance" in lv]
         if density:
             text += ", painted region " + " / ".join(f"{d:.1f}x" for d in density) + " as dense as the rest"

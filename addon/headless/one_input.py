@@ -28,13 +28,15 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     choices = sources.importance_choice(objects, args)
     settings = [lod_settings(args, importance_source=source, importance_group=group) for source, group, _ in choices]
     job = LodJob(bpy.context, objects, settings, CHAIN_LABELS)
-    for lod_input, (_, _, note) in zip(job.inputs, choices):
-        if note:
+    # Objects sharing one input (LodJob: one mesh, equal settings) have the same note.
+    for lod_input, (_, _, note) in zip(job.object_inputs, choices):
+        if note and note not in lod_input.warnings:
             lod_input.warnings.append(note)
+    # Progress per group: a mesh several objects use is simplified once.
     job.run(observer=ProgressLines(console, label, job.inputs, files_left_seconds))
     reports = job.commit(bpy.context)
     return [report.chain_entry(rep, out, sources.importance_label(source, group))
-            for rep, out, (source, group, _) in zip(reports, job.outputs, choices)]
+            for rep, out, (source, group, _) in zip(reports, job.object_outputs, choices)]
 
 
 def name_chains(entries: list, lod_group: bool) -> None:

@@ -19,11 +19,14 @@ from .arguments import lod_settings
 def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
     """One object's report entry: lod.commit()'s report with its source as the level 0
     row, each LOD's own seconds, and the importance it was made with ("NONE",
-    "ARMATURE" or "VERTEX_GROUP:<name>")."""
+    "ARMATURE" or "VERTEX_GROUP:<name>"). An object whose LODs share another's meshes
+    (``shares``: that object, which has the time) has 0 seconds on every row."""
     rep = commit_report
     data = lod_output.input.data
     source = {"level": 0, "name": rep["object"], "target": None, "triangles": int(len(data.faces)),
               "vertices": int(len(data.vertices)), "seconds": 0.0}
+    if rep.get("source_mesh") is not None:
+        source["mesh"] = rep["source_mesh"]
     if lod_output.input.settings.measure_deviation:
         source.update(hausdorff_percent=0.0, mean_percent=0.0, normal_mean_degrees=0.0, normal_p95_degrees=0.0,
                       normal_max_degrees=0.0)
@@ -121,6 +124,7 @@ def format_table(files: list) -> str:
     rows = []
     for f in files:
         for obj in f["objects"]:
+            shared = obj.get("shares") is not None  # its LODs were made for another object
             for level in obj["levels"]:
                 rows.append([
                     f["label"], level["name"], f"LOD{level['level']}", f"{level['triangles']:,}",
@@ -129,7 +133,7 @@ def format_table(files: list) -> str:
                     _normals_cell(level),
                     f"{level['mean_quality']:.3f} / {level['min_quality']:.3f}",
                     f"{level['sliver_percent']:.2f}",
-                    "-" if level["level"] == 0 else f"{level['seconds']:.2f}",
+                    "-" if level["level"] == 0 else "shared" if shared else f"{level['seconds']:.2f}",
                 ])
     if not rows:
         return ""
