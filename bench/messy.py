@@ -1,0 +1,138 @@
+"""What real exporters write (issue 33): core against Blender's Decimate on messy input.
+
+    .venv/bin/python bench/messy.py [--parts 6] [--ratios 0.25 0.1] [--samples 100000]
+
+Rows, each at every ratio, core and Decimate in this one process on the same triangles:
+- generated faults (tests/mesh_builders.py): a UV sphere with flipped caps, a soup of
+  duplicate, reversed, zero-area and repeated-corner faces, three sheets on one edge,
+  500 bolts of 12 triangles, a sheet with a T-junction slit;
+- the ``--parts`` largest meshes of ../shared/assets/2CylinderEngine (a CAD assembly
+  exported from a STEP tool) and BoomBox, read by Blender's glTF importer, each mesh once;
+- homer.obj from ../shared/meshes: the organic mesh the per-face time is compared with.
+
+Decimate gets the triangles welded (Merge by Distance, as bench/run.py does): unwelded,
+it cannot reduce the engine's parts at all. Distances are two-sided, in % of the input's
+bounding-box diagonal (addon/measure.py); slivers are faces of quality below 0.3. The
+per-face column is core's time per input face over homer's at the same ratio. Prints a
+markdown table with the processor it ran on; docs/method.md quotes it.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
+import bpy
+import numpy as np
+
+import core
+from addon.measure import mesh_report
+from blender_reference import _clear_scene, decimate, load_mesh, mesh_arrays, stdout_to_stderr
+from run import environment, welded
+
+sys.path.insert(0, str(_bootstrap.REPO_ROOT / "tests"))
+import mesh_builders as build  # noqa: E402  (the tests' generators: one definition of each fault)
+
+ASSETS = _bootstrap.REPO_ROOT.parent / "shared" / "assets"
+GENERATED = {
+    "sphere, flipped caps": lambda: build.flipped_caps()[:2],
+    "bad-face soup": lambda: build.with_bad_faces(*build.icosphere(3))[:2],
+    "three sheets on an edge": build.three_sheets,
+    "500 bolts": build.bolts,
+    "T-junction slit": build.t_junction_slit,
+}
+
+
+def gltf_meshes(path: Path) -> list:
+    """(name, V, F) of every mesh datablock of a glTF file as Blender imports it, each
+    once however many objects use it (in its own coordinates)."""
+    _clear_scene()
+    with stdout_to_stderr():
+        bpy.ops.import_scene.gltf(filepath=str(path))
+    meshes = {ob.data.name: ob.data for ob in bpy.data.objects if ob.type == "MESH"}
+    out = []
+    for name, me in meshes.items():
+        v, f, _, _ = mesh_arrays(me)
+        if len(f):
+            out.append((name, v, f))
+    _clear_scene()
+    return out
+
+
+def inputs(args) -> list:
+    cases = [(name, *make()) for name, make in GENERATED.items()]
+    engine = ASSETS / "2CylinderEngine" / "2CylinderEngine.gltf"
+    if engine.exists():
+        parts = sorted(gltf_meshes(engine), key=lambda m: -len(m[2]))[:args.parts]
+        cases += [(f"2CylinderEngine {name}", v, f) for name, v, f in parts]
+    boombox = ASSETS / "BoomBox" / "BoomBox.gltf"
+    if boombox.exists():
+        cases += [("BoomBox", *gltf_meshes(boombox)[0][1:])]
+    return cases
+
+
+def measure(name, V, F, ratio, samples) -> dict:
+    t0 = time.perf_counter()
+    r = core.simplify(V, F, ratio=ratio)
+    seconds = time.perf_counter() - t0
+    wv, wf, _ = welded(V, F)
+    dec = decimate(wv, wf, ratio * len(F) / len(wf))  # the same target count
+    ours = mesh_report(V, F, r.vertices, r.faces, n_samples=samples)
+    theirs = mesh_report(V, F, dec.vertices, dec.faces, n_samples=samples)
+    return {"input": name, "faces": len(F), "ratio": ratio, "target": r.stats.target_faces,
+            "core": len(r.faces), "stop": r.stats.stop_reason, "seconds": seconds,
+            "decimate": len(dec.faces), "decimate_seconds": dec.seconds,
+            "hausdorff": (ours["hausdorff_percent"], theirs["hausdorff_percent"]),
+            "mean": (ours["mean_percent"], theirs["mean_percent"]),
+            "slivers": (ours["sliver_percent"], theirs["sliver_percent"])}
+
+
+def table(rows, baseline) -> str:
+    head = ("| input | faces | ratio | target | core | stop | core s | per face / homer's | Decimate | Decimate s "
+            "| Hausdorff % core / Dec. | mean % core / Dec. | slivers % core / Dec. |")
+    lines = [head, "|" + "---|" * 13]
+    for r in rows:
+        per_face = r["seconds"] / r["faces"] / baseline[r["ratio"]] if r["ratio"] in baseline else float("nan")
+
+        def pair(key, spec):
+            ours, theirs = r[key]
+            ratio = f" ({ours / theirs:.2f}x)" if theirs > 0 else ""
+            return f"{ours:{spec}} / {theirs:{spec}}{ratio}"
+        lines.append(f"| {r['input']} | {r['faces']:,} | {r['ratio']:g} | {r['target']:,} | {r['core']:,} | "
+                     f"{r['stop']} | {r['seconds']:.3f} | {per_face:.2f}x | {r['decimate']:,} | "
+                     f"{r['decimate_seconds']:.3f} | {pair('hausdorff', '.3f')} | {pair('mean', '.4f')} | "
+                     f"{pair('slivers', '.1f')} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--parts", type=int, default=6, help="the engine's largest meshes to run (default 6)")
+    ap.add_argument("--ratios", type=float, nargs="+", default=[0.25, 0.1])
+    ap.add_argument("--samples", type=int, default=100_000, help="area-uniform samples per surface")
+    args = ap.parse_args(argv)
+    env = environment()
+    baseline = {}
+    homer = _bootstrap.DEFAULT_MESH_DIR / "homer.obj"
+    rows = []
+    if homer.exists():
+        mesh = load_mesh(homer)
+        for ratio in args.ratios:
+            core.simplify(mesh.vertices, mesh.faces, ratio=ratio)  # warm
+            row = measure("homer.obj (organic baseline)", mesh.vertices, mesh.faces, ratio, args.samples)
+            baseline[ratio] = row["seconds"] / row["faces"]
+            rows.append(row)
+    for name, V, F in inputs(args):
+        print(name, file=sys.stderr, flush=True)
+        for ratio in args.ratios:
+            rows.append(measure(name, V, F, ratio, args.samples))
+    print(f"{env['cpu']}, {env['cpu_count']} cores; Blender {env['blender']}, NumPy {env['numpy']}; "
+          f"commit {env['commit']}\n")
+    print(table(rows, baseline))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
