@@ -49,7 +49,7 @@ def repaired(p, twin=None, stitch: bool = True):
     return dataclasses.replace(p, connectivity=conn)
 
 
-def _with_splits(p, faces, parent, weights):
+def _with_splits(p, faces, parent, split_rows, weights):
     """``p`` on the stitched faces: each a new run face id, numbered in the input's order
     (by the input face it descends from, then by its place in the split), so that the
     engine's input-order output (core.locality) still holds."""
@@ -59,7 +59,11 @@ def _with_splits(p, faces, parent, weights):
     run_id[order] = np.arange(len(parent))
     face_source = np.empty(len(parent), dtype=np.int64)
     face_source[run_id] = source
-    corner_attributes = {k: np.einsum("fij,fjk->fik", weights, a[parent]) for k, a in p.corner_attributes.items()}
+    corner_attributes = {}
+    for name, values in p.corner_attributes.items():
+        values = values[parent]
+        values[split_rows] = np.einsum("fij,fjk->fik", weights, values[split_rows])  # the split faces' corners
+        corner_attributes[name] = values
     return dataclasses.replace(p, faces=faces, face_origin=run_id, face_source=face_source,
                                unsplit_faces=rows(p.faces, parent), run_faces=len(parent),
                                corner_attributes=corner_attributes)

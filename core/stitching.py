@@ -44,18 +44,19 @@ ROUNDS = 3
 
 
 def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
-    """(faces (m', 3), parent (m',), split) with T-junction cracks closed.
+    """(faces (m', 3), parent (m',), rows (k,), weights (k, 3, 3)) with T-junction cracks
+    closed, or None when nothing is to be stitched (the common case).
 
     vertices (n, 3) in normalised units (unit diagonal), faces (m, 3) int64 without
     degenerate or duplicate rows. parent: the row of ``faces`` each output face comes
-    from; split: (m',) float (m', 3) the position of each output corner along the
-    parent's corners as barycentric weights (for interpolating corner values). Returns
-    None when nothing is to be stitched (the common case). conn: ``topology.build(faces,
-    n)`` if the caller has it."""
+    from; rows: the output faces made by splits, and weights: where each of their corners
+    lies on its parent, as barycentric weights over the parent's corners (for
+    interpolating corner values; every other face has its parent's corners). conn:
+    ``topology.build(faces, n)`` if the caller has it."""
     n = len(vertices)
     part = components.vertex_labels(faces, n)
     parent = np.arange(len(faces))
-    weights = None
+    rows, weights = np.zeros(0, dtype=np.int64), np.zeros((0, 3, 3))
     current = faces
     for _ in range(ROUNDS):
         splits = _border_splits(vertices, current, n, part, conn)
@@ -63,17 +64,33 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
         if splits is None:
             break
         before = current
-        current, step_parent, step_weights = _split_faces(current, *splits)
-        current, step_parent, step_weights = _undo_bad_splits(vertices, before, current, step_parent, step_weights, n)
+        current, step_parent, step_rows, step_weights = _split_faces(current, *splits)
+        current, step_parent, step_rows, step_weights = _undo_bad_splits(
+            vertices, before, current, step_parent, step_rows, step_weights, n)
         if len(current) == len(before):
             break
-        # Compose with the earlier rounds: weights over the original corners.
-        w_prev = np.broadcast_to(np.eye(3), (len(parent), 3, 3)) if weights is None else weights
-        weights = np.einsum("fij,fjk->fik", step_weights, w_prev[step_parent])
+        rows, weights = _composed(len(before), rows, weights, step_parent, step_rows, step_weights)
         parent = parent[step_parent]
-    if weights is None:
+    if len(current) == len(faces):
         return None
-    return current, parent, weights
+    return current, parent, rows, weights
+
+
+def _composed(m_before, rows, weights, step_parent, step_rows, step_weights):
+    """(rows, weights) over a round's output faces, from the earlier rounds' (rows,
+    weights) over its input faces and the round's own: a face split twice has its corners
+    on its first parent by the product of the two."""
+    earlier = np.full(m_before, -1, dtype=np.int64)
+    earlier[rows] = np.arange(len(rows))
+    inherited = earlier[step_parent]  # each output face's parent's earlier weights, or -1
+    split = np.zeros(len(step_parent), dtype=bool)
+    split[step_rows] = True
+    keep = np.flatnonzero(~split & (inherited >= 0))
+    own = inherited[step_rows]
+    prior = np.broadcast_to(np.eye(3), (len(step_rows), 3, 3)).copy()
+    prior[own >= 0] = weights[own[own >= 0]]
+    return (np.concatenate([keep, step_rows]),
+            np.concatenate([weights[inherited[keep]], np.einsum("fij,fjk->fik", step_weights, prior)]))
 
 
 def _border_splits(V, F, n, part, conn=None):
@@ -165,8 +182,8 @@ def _near_pairs(V, a, b, points):
 def _split_faces(F, corner, vertex, t):
     """Faces with the split half-edges fanned out. corner: flat half-edge index per
     inserted point (several points may share one), vertex: the point, t: its parameter.
-    Returns (faces, parent row, (m', 3, 3) barycentric weights of each new corner over
-    the parent's corners)."""
+    Returns (faces, parent row, the rows of the new faces, (k, 3, 3) barycentric weights
+    of each new face's corners over its parent's corners)."""
     m = len(F)
     order = np.lexsort((t, corner))
     corner, vertex, t = corner[order], vertex[order], t[order]
@@ -213,36 +230,39 @@ def _split_faces(F, corner, vertex, t):
     keep_rows = np.flatnonzero(untouched)
     faces = np.concatenate([F[keep_rows], rolled])
     parent = np.concatenate([keep_rows, fs[g]])
-    weights = np.concatenate([np.broadcast_to(np.eye(3), (len(keep_rows), 3, 3)), w])
-    return faces, parent, weights
+    return faces, parent, len(keep_rows) + np.arange(len(rolled)), w
 
 
-def _undo_bad_splits(V, before, faces, parent, weights, n):
+def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
     """The split faces back as they were where a split went wrong:
     - a new face turned against the face it was split from (a point beside a thin
       triangle's edge can fall on the wrong side of its other edges): rule no_turn_over
       would then freeze its corners for the whole run;
     - an edge with three or more faces among the new ones (a seam where three sheets
       meet, a vertex that fitted an edge of its own side): the repair must not make a
-      manifold mesh non-manifold."""
-    split = np.bincount(parent, minlength=len(before))[parent] > 1
-    normals, _ = face_frames(V, faces)
-    parent_normals, _ = face_frames(V, before)
-    turned = split & (np.einsum("ij,ij->i", normals, parent_normals[parent]) <= 0)
-    bad = np.unique(parent[turned])
+      manifold mesh non-manifold.
+    rows, weights: the split faces and their corners' weights, as _split_faces gives."""
+    split = np.zeros(len(faces), dtype=bool)
+    split[rows] = True
+    normals, _ = face_frames(V, faces[rows])
+    parent_normals, _ = face_frames(V, before[parent[rows]])
+    bad = np.unique(parent[rows][np.einsum("ij,ij->i", normals, parent_normals) <= 0])
     for _ in range(ROUNDS + 1):
         if len(bad):
             undo = np.isin(parent, bad)
+            new_index = np.cumsum(~undo) - 1
+            kept = ~undo[rows]
+            rows, weights = new_index[rows[kept]], weights[kept]
             faces = np.concatenate([faces[~undo], before[bad]])
-            weights = np.concatenate([weights[~undo], np.broadcast_to(np.eye(3), (len(bad), 3, 3))])
             parent = np.concatenate([parent[~undo], bad])
+            split = np.zeros(len(faces), dtype=bool)
+            split[rows] = True
         conn = topology.build(faces, n)
         crowded = np.flatnonzero(conn.edge_faces > 2)
         if len(crowded) == 0:
             break
-        split = np.bincount(parent, minlength=len(before))[parent] > 1
         on_crowded = np.flatnonzero(np.isin(conn.he_edge, crowded)) // 3
         bad = np.unique(parent[on_crowded[split[on_crowded]]])
         if len(bad) == 0:
             break  # those edges were non-manifold in the input
-    return faces, parent, weights
+    return faces, parent, rows, weights
