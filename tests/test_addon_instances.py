@@ -3,17 +3,11 @@ same way (issue 32 §1): LodJob groups the objects whose LODs would be identical
 mesh datablock, equal settings, no evaluated geometry modifier, no armature), computes
 each group once, and commit gives every object its own LOD objects using the group's
 LOD meshes. One Blender child runs tests/scenarios/addon_instances.py (the checkout's
-addon package, no install); the command line then runs on the .blend it saved."""
-import json
-import os
-import re
-import subprocess
-import sys
-
+addon package, no install); tests/test_cli_instances.py runs the command line on the .blend
+it saves."""
 import pytest
 
-from bpy_harness import REPO_ROOT, isolated_blender_env, run_scenario
-from gltf_tools import glb_json
+from bpy_harness import run_scenario
 
 SHARED = ["A", "B", "C", "F"]  # Part, no modifier in the viewport, same settings
 APART = ["Solo", "D", "E"]  # own mesh / Subdivision on / other ratios
@@ -138,59 +132,3 @@ def test_rerun_replaces_the_shared_lods(res):
     assert res["rerun_objects"] == sorted(f"{n}_LOD{k}" for n in ORDER for k in (1, 2))
     assert res["orphan_meshes"] == []
     assert res["rerun_part_lod_users"] == [len(SHARED), len(SHARED)]
-
-
-# ----------------------------------------------------------------------------- the command line
-
-
-@pytest.fixture(scope="module")
-def cli(work, res):
-    out = work / "out"
-    report = work / "report.json"
-    env = {**os.environ, **isolated_blender_env(work / "user")}
-    proc = subprocess.run([sys.executable, str(REPO_ROOT), "--input", str(work / "instances.blend"),
-                           "--ratios", "0.5", "0.25", "--output-dir", str(out), "--format", "glb",
-                           "--report", str(report)],
-                          capture_output=True, text=True, cwd=work, env=env, timeout=600)
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    return {"stdout": proc.stdout, "stderr": proc.stderr, "glb": glb_json(out / "instances_LODs.glb"),
-            "report": json.loads(report.read_text())}
-
-
-def test_cli_writes_each_lod_mesh_once(cli):
-    gltf = cli["glb"]
-    # Before: Part and SoloMesh plus two LOD meshes per object (4 objects): 10.
-    assert sorted(m["name"] for m in gltf["meshes"]) == ["Part", "Part_LOD1", "Part_LOD2", "SoloMesh",
-                                                         "Solo_LOD1", "Solo_LOD2"]
-    mesh_of = {n["name"]: n.get("mesh") for n in gltf["nodes"]}
-    for k in (1, 2):
-        assert len({mesh_of[f"{name}_LOD{k}"] for name in ("A", "B", "C")}) == 1
-        assert mesh_of[f"Solo_LOD{k}"] != mesh_of[f"A_LOD{k}"]
-    # Every instance keeps its own MSFT_lod chain, to its own LOD nodes.
-    index = {n["name"]: i for i, n in enumerate(gltf["nodes"])}
-    for name in ("A", "B", "C", "Solo"):
-        ids = gltf["nodes"][index[f"{name}_LOD0"]]["extensions"]["MSFT_lod"]["ids"]
-        assert ids == [index[f"{name}_LOD1"], index[f"{name}_LOD2"]]
-
-
-def test_cli_report_progress_and_table_count_each_mesh_once(cli):
-    objects = {o["object"]: o for o in cli["report"]["files"][0]["objects"]}
-    assert sorted(objects) == ["A", "B", "C", "Solo"]
-    leaders = [n for n in ("A", "B", "C") if objects[n].get("shares") is None]
-    assert len(leaders) == 1, leaders
-    leader = leaders[0]
-    for name in ("A", "B", "C"):
-        o = objects[name]
-        assert [lv["mesh"] for lv in o["levels"]] == ["Part", "Part_LOD1", "Part_LOD2"]
-        assert [lv["name"] for lv in o["levels"]] == [f"{name}_LOD{k}" for k in range(3)]
-        if name != leader:
-            assert o["shares"] == leader and o["seconds"] == 0.0
-            assert all(lv["seconds"] == 0.0 for lv in o["levels"])
-    assert objects[leader]["seconds"] > 0 and objects["Solo"]["seconds"] > 0
-    started = [line for line in cli["stderr"].splitlines() if re.search(r"triangles -> LOD1", line)]
-    assert len(started) == 2, started  # one progress chain per mesh, not per object
-    rows = [re.split(r"\s{2,}", line.strip()) for line in cli["stdout"].splitlines()]
-    seconds = {cells[1]: cells[-1] for cells in rows if len(cells) == 11 and re.fullmatch(r"LOD[12]", cells[2])}
-    for name in ("A", "B", "C"):
-        for k in (1, 2):
-            assert (seconds[f"{name}_LOD{k}"] == "shared") == (name != leader), seconds
