@@ -46,9 +46,10 @@ Reading (``read_weights``)
     group by name, "Store Named Attribute" makes it a float attribute, the modifier is
     applied by one operator call, ``foreach_get`` reads the attributes): about 10 ms a mesh
     plus the two view-layer updates, then about 0.5 us a vertex. 60 parts 0.9-1.6 s with
-    65 objects and 2.4-4.1 s with 245; the 60,000-vertex mesh 0.04-0.15 s. The groups
-    are renamed on the copy first: "Named Attribute" finds attributes before vertex
-    groups, so a group called "position" or like a UV map read that attribute.
+    65 objects and 2.4-4.1 s with 245; the 60,000-vertex mesh 0.04-0.15 s. "Named
+    Attribute" finds attributes before vertex groups, so a mesh with a group called
+    "position" or like a UV map is read in Python (applying the modifier to such a mesh
+    crashes Blender 5.2).
   "auto" reads meshes of NODES_MIN_VERTICES (20,000) vertices or more through Geometry
   Nodes, where the per-mesh cost is below Python's (the crossover is 7,000 vertices in an
   empty scene and about 30,000 with 245 objects), and smaller ones in Python, so many
@@ -81,7 +82,14 @@ def read_weights(mesh: bpy.types.Mesh, names, method: str = "auto") -> np.ndarra
     n = len(mesh.vertices)
     if not names or n == 0:
         return np.zeros((n, len(names)))
-    if method == "nodes" or (method == "auto" and n >= NODES_MIN_VERTICES):
+    use_nodes = method == "nodes" or (method == "auto" and n >= NODES_MIN_VERTICES)
+    # "Named Attribute" finds built-in and other attributes before vertex groups, so a mesh
+    # with a group called like one ("position", a UV map) is read in Python: renaming the
+    # group on the copy read it right in Blender 4.5, and on such a mesh Blender 5.2's
+    # modifier_apply crashes whatever the node tree reads.
+    if use_nodes and any(name in mesh.attributes for name in group_names(mesh)):
+        use_nodes = False
+    if use_nodes:
         try:
             return _read_via_nodes(mesh, names)
         except RuntimeError:
@@ -134,19 +142,9 @@ def _read_via_nodes(mesh, names) -> np.ndarray:
         if tmp_mesh.shape_keys is not None:
             # Modifiers cannot be applied to a mesh with shape keys; the copy does not need them.
             remove_shape_keys(tmp_mesh)
-        # "Named Attribute" finds built-in and other attributes before vertex groups, so a
-        # group called like one ("position", a UV map) would read that attribute: on the
-        # copy every group asked for is renamed to a name no attribute has. Columns of
-        # groups the mesh lacks stay 0.
-        renamed, sources = {}, {}
-        for col, name in enumerate(names):
-            if name not in renamed:
-                group = tmp_obj.vertex_groups.get(name)
-                if group is not None:
-                    group.name = f"{_TMP_PREFIX}read{col}"
-                renamed[name] = None if group is None else group.name
-            if renamed[name] is not None:
-                sources[col] = renamed[name]
+        # Columns of groups the mesh lacks stay 0.
+        present = set(tmp_obj.vertex_groups.keys())
+        sources = {col: name for col, name in enumerate(names) if name in present}
         tree = _store_groups_tree(sources)
         mod = tmp_obj.modifiers.new(_TMP_PREFIX + "mod", 'NODES')
         mod.node_group = tree
