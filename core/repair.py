@@ -40,8 +40,8 @@ def repaired(p, twin=None, stitch: bool = True):
     if stitch:
         stitched = stitching.stitch(p.vertices, p.faces, conn)
         if stitched is not None:
-            p = _with_splits(p, *stitched)
-            conn = topology.build(p.faces, n)
+            *split, conn = stitched
+            p = _with_splits(p, *split)
     flip = orientation.faces_to_flip(p.vertices, p.faces, conn)
     if flip.any():
         p = _turned(p, flip, twin)

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import components, topology
-from .geometry import face_frames
+from .geometry import edge_parameter, face_frames
 
 # A border vertex joins a border edge when it is this close to it, relative to the
 # edge's length (a chord's sagitta is length^2 / 8r: up to 1 % means a curve sampled at
@@ -44,8 +44,9 @@ ROUNDS = 3
 
 
 def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
-    """(faces (m', 3), parent (m',), rows (k,), weights (k, 3, 3)) with T-junction cracks
-    closed, or None when nothing is to be stitched (the common case).
+    """(faces (m', 3), parent (m',), rows (k,), weights (k, 3, 3), connectivity of the new
+    faces) with T-junction cracks closed, or None when nothing is to be stitched (the
+    common case).
 
     vertices (n, 3) in normalised units (unit diagonal), faces (m, 3) int64 without
     degenerate or duplicate rows. parent: the row of ``faces`` each output face comes
@@ -60,12 +61,11 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
     current = faces
     for _ in range(ROUNDS):
         splits = _border_splits(vertices, current, n, part, conn)
-        conn = None
         if splits is None:
             break
         before = current
         current, step_parent, step_rows, step_weights = _split_faces(current, *splits)
-        current, step_parent, step_rows, step_weights = _undo_bad_splits(
+        current, step_parent, step_rows, step_weights, conn = _undo_bad_splits(
             vertices, before, current, step_parent, step_rows, step_weights, n)
         if len(current) == len(before):
             break
@@ -73,7 +73,7 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
         parent = parent[step_parent]
     if len(current) == len(faces):
         return None
-    return current, parent, rows, weights
+    return current, parent, rows, weights, conn
 
 
 def _composed(m_before, rows, weights, step_parent, step_rows, step_weights):
@@ -111,11 +111,9 @@ def _border_splits(V, F, n, part, conn=None):
         return None
     v = points[point_i]
     pa, pb, pv = V[a[edge_i]], V[b[edge_i]], V[v]
-    d = pb - pa
-    length2 = np.einsum("ij,ij->i", d, d)
-    t = np.einsum("ij,ij->i", pv - pa, d) / np.maximum(length2, 1e-300)
-    dist = np.linalg.norm(pa + t[:, None] * d - pv, axis=1)
-    tol = np.minimum(RELATIVE_TOLERANCE * np.sqrt(length2), ABSOLUTE_TOLERANCE)
+    t = edge_parameter(pa, pb, pv)  # clamped: a point beyond an end fails END_MARGIN
+    dist = np.linalg.norm(pa + t[:, None] * (pb - pa) - pv, axis=1)
+    tol = np.minimum(RELATIVE_TOLERANCE * np.linalg.norm(pb - pa, axis=1), ABSOLUTE_TOLERANCE)
     ok = (dist <= tol) & (t > END_MARGIN) & (t < 1 - END_MARGIN)
     ok &= (v != a[edge_i]) & (v != b[edge_i]) & (v != c[edge_i])
     # Cracks are within one part's surface: separate parts that touch stay separate.
@@ -241,7 +239,9 @@ def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
     - an edge with three or more faces among the new ones (a seam where three sheets
       meet, a vertex that fitted an edge of its own side): the repair must not make a
       manifold mesh non-manifold.
-    rows, weights: the split faces and their corners' weights, as _split_faces gives."""
+    rows, weights: the split faces and their corners' weights, as _split_faces gives.
+    Returns them with the faces and parents kept, and the connectivity of those faces
+    (the next round's, and core.repair's, so it is built once)."""
     split = np.zeros(len(faces), dtype=bool)
     split[rows] = True
     normals, _ = face_frames(V, faces[rows])
@@ -265,4 +265,4 @@ def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
         bad = np.unique(parent[on_crowded[split[on_crowded]]])
         if len(bad) == 0:
             break  # those edges were non-manifold in the input
-    return faces, parent, rows, weights
+    return faces, parent, rows, weights, conn
