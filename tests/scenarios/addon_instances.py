@@ -14,31 +14,17 @@ Steps: a cancelled job, a job run but never committed and a commit that fails mi
 change nothing; then the job is run and committed (counting lod.compute and
 core.simplify_chain calls, and the observer's groups); then run again (replacing).
 """
-import hashlib
 
 import bpy
 import numpy as np
 
 from addon import job as job_mod
 from addon import lod
+from scene_tools import array, commit_after_cancel, diff, mesh_hash
 
 RATIOS = (0.5, 0.25)
 OTHER_RATIOS = (0.4, 0.2)
 ORDER = ["A", "Solo", "B", "D", "C", "E", "F"]
-
-
-def array(collection, prop, width, dtype=np.float32):
-    out = np.empty(len(collection) * width, dtype=dtype)
-    collection.foreach_get(prop, out)
-    return out
-
-
-def mesh_hash(me) -> str:
-    h = hashlib.sha256()
-    for coll, prop, width, dtype in ((me.vertices, "co", 3, np.float32), (me.loops, "vertex_index", 1, np.int32),
-                                     (me.polygons, "material_index", 1, np.int32)):
-        h.update(array(coll, prop, width, dtype).tobytes())
-    return h.hexdigest()
 
 
 def data_state() -> dict:
@@ -52,10 +38,6 @@ def data_state() -> dict:
                                "props": sorted(k for k in ob.keys() if not k.startswith("lqlod_"))}
                         for name, ob in bpy.data.objects.items() if ob.type == 'MESH' and "lod_level" not in ob}
     return state
-
-
-def diff(before: dict, after: dict) -> dict:
-    return {k: [before.get(k), after.get(k)] for k in set(before) | set(after) if before.get(k) != after.get(k)}
 
 
 def build_scene(blend_out: str):
@@ -195,14 +177,7 @@ def run(blend_out: str = "") -> dict:
         job = job_mod.LodJob(bpy.context, objects, settings)
         result["groups"] = job.groups
         result["inputs"] = [i.source_name for i in job.inputs]
-        job.start()
-        job.cancel()
-        job.wait(120)
-        try:
-            job.commit(bpy.context)
-            result["cancel_raised"] = False
-        except lod.LodCancelled:
-            result["cancel_raised"] = True
+        result["cancel_raised"] = commit_after_cancel(job, lod.LodCancelled)
         result["cancel_changes"] = diff(before, data_state())
 
         # 2. Run to the end but never committed.

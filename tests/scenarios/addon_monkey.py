@@ -4,24 +4,15 @@ the modal operator, undo (tests/test_addon_monkey.py checks what this returns).
 
 The steps run in order and each starts from the scene the previous one left.
 """
-import hashlib
 import json
 import types
 
 import bpy
 import numpy as np
-from scene_tools import array, extension_module, remove_all_objects, select_only
+from scene_tools import array, commit_after_cancel, diff, mesh_hash, extension_module, remove_all_objects, select_only
 
 lod = extension_module("addon.lod")
 job_mod = extension_module("addon.job")
-
-
-def mesh_hash(me) -> str:
-    h = hashlib.sha256()
-    for coll, prop, width, dtype in ((me.vertices, "co", 3, np.float32), (me.loops, "vertex_index", 1, np.int32),
-                                     (me.polygons, "material_index", 1, np.int32)):
-        h.update(array(coll, prop, width, dtype).tobytes())
-    return h.hexdigest()
 
 
 def source_state(ob) -> dict:
@@ -39,11 +30,6 @@ def data_state() -> dict:
 def scene_state(src) -> dict:
     """What must not change when a run is cancelled: every data-block's name and the source."""
     return {**data_state(), **source_state(src)}
-
-
-def diff(before: dict, after: dict) -> dict:
-    """{key: [before, after]} for every key whose value changed."""
-    return {k: [before.get(k), after.get(k)] for k in set(before) | set(after) if before.get(k) != after.get(k)}
 
 
 def monkey_lods() -> list:
@@ -189,14 +175,7 @@ def cancel(src, result: dict) -> None:
     result["cancel_changes"] = diff(before, scene_state(src))
 
     job = job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.2))
-    job.start()
-    job.cancel()
-    job.wait(60)
-    try:
-        job.commit(bpy.context)
-        result["job_cancel_raised"] = False
-    except lod.LodCancelled:
-        result["job_cancel_raised"] = True
+    result["job_cancel_raised"] = commit_after_cancel(job, lod.LodCancelled, 60)
     result["job_cancel_changes"] = diff(before, scene_state(src))
 
     job = job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.2, levels=1))

@@ -8,6 +8,7 @@ import bpy
 import numpy as np
 
 from addon import vertex_groups as vg
+from scene_tools import value_errors
 
 N_GROUPS = 24
 
@@ -144,15 +145,11 @@ def run() -> dict:
     vg.write_weights(empty, ["a", "b"], np.zeros((0, 2)))
     result["empty_groups"] = empty.vertex_groups.keys()
 
-    errors = {}
-    for label, call in (("duplicate", lambda: vg.write_weights(empty, ["a", "a"], np.zeros((0, 2)))),
-                        ("unknown_write", lambda: vg.write_weights(empty, ["a"], np.zeros((0, 1)), method="x")),
-                        ("unknown_read", lambda: vg.read_weights(base, ["a"], method="x"))):
-        try:
-            call()
-            errors[label] = None
-        except ValueError as ex:
-            errors[label] = str(ex)
+    errors = value_errors({
+        "duplicate": lambda: vg.write_weights(empty, ["a", "a"], np.zeros((0, 2))),
+        "unknown_write": lambda: vg.write_weights(empty, ["a"], np.zeros((0, 1)), method="x"),
+        "unknown_read": lambda: vg.read_weights(base, ["a"], method="x"),
+    })
     result["errors"] = errors
 
     # Reading: "auto" (Python below NODES_MIN_VERTICES, Geometry Nodes from there on) agrees

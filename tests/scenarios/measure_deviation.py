@@ -5,6 +5,7 @@ import numpy as np
 
 import core
 from addon import measure
+from scene_tools import value_errors
 
 
 def run(meshes_npz: str) -> dict:
@@ -51,12 +52,6 @@ def run(meshes_npz: str) -> dict:
         "both_counts": lambda: deviation("plane", "plane", n_samples=10, samples_per_unit_area=10),
         "nan": lambda: measure.surface_deviation(d["plane_v"] * np.nan, d["plane_f"], d["plane_v"], d["plane_f"]),
     }
-    errors = {}
-    for name, call in invalid_calls.items():
-        try:
-            call()
-            errors[name] = None
-        except ValueError as ex:
-            errors[name] = str(ex)
+    errors = value_errors(invalid_calls)
     result["errors"] = errors
     return result

@@ -38,6 +38,45 @@ def select_only(*obs) -> None:
         bpy.context.view_layer.objects.active = obs[0]
 
 
+def mesh_hash(me) -> str:
+    """A digest of a mesh's positions, corners and material indices (did it change?)."""
+    h = hashlib.sha256()
+    for coll, prop, width, dtype in ((me.vertices, "co", 3, np.float32), (me.loops, "vertex_index", 1, np.int32),
+                                     (me.polygons, "material_index", 1, np.int32)):
+        h.update(array(coll, prop, width, dtype).tobytes())
+    return h.hexdigest()
+
+
+def diff(before: dict, after: dict) -> dict:
+    """{key: [before, after]} for every key whose value changed."""
+    return {k: [before.get(k), after.get(k)] for k in set(before) | set(after) if before.get(k) != after.get(k)}
+
+
+def value_errors(calls: dict) -> dict:
+    """{name: the ValueError's message, or None if it raised none} for {name: call}."""
+    errors = {}
+    for name, call in calls.items():
+        try:
+            call()
+            errors[name] = None
+        except ValueError as ex:
+            errors[name] = str(ex)
+    return errors
+
+
+def commit_after_cancel(job, cancelled, seconds: float = 120) -> bool:
+    """Start ``job`` (a LodJob), cancel it, wait, and commit: whether the commit raised
+    ``cancelled`` (lod.LodCancelled of the module the job came from)."""
+    job.start()
+    job.cancel()
+    job.wait(seconds)
+    try:
+        job.commit(bpy.context)
+    except cancelled:
+        return True
+    return False
+
+
 def array(collection, prop: str, width: int, dtype=np.float32):
     """``collection.foreach_get(prop)`` as a flat NumPy array (width values per item)."""
     values = np.empty(len(collection) * width, dtype=dtype)
