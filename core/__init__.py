@@ -16,6 +16,8 @@ Public API:
     skin_line_weights(skin) -> (n,) the paper's Sec. 5.3 w_i from skinning weights
     skinning                    sample poses of a rig, pose offsets for the error, and
         LOD skin weights fitted to the poses (skinned characters, issue 19)
+    budget                      one triangle budget for many parts (an asset), split
+        by error: split_by_error(parts, targets) -> counts per level and part
     shading                     Blender's corner normals from smooth flags and sharp edges,
         and the geometry of comparing two meshes' shading normals
 """
@@ -34,6 +36,7 @@ from .metrics import SLIVER_QUALITY, triangle_quality, quality_summary
 from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
 from . import shading  # shading normals and their deviation (addon/measure.py's normal_deviation)
+from . import budget  # one triangle budget for many parts, split by error (addon/asset.py)
 from . import skinning  # posed error and fitted weights for skinned LODs (addon/lod.py)
 
 __all__ = [
@@ -55,4 +58,5 @@ __all__ = [
     "topology",
     "shading",
     "skinning",
+    "budget",
 ]
