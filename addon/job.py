@@ -23,12 +23,18 @@ per level, as one group; commit gives every object of the group LOD objects of i
 LOD meshes. ``inputs`` and ``outputs`` are per group (what is computed, what the observer
 and the progress count); ``objects``, ``object_inputs`` and ``object_outputs`` per object,
 and commit() returns one report per object, in the order the objects were given.
+
+Several objects with ``asset_budget`` on (the default) are one asset (addon/asset.py):
+a chain by triangles is the asset's, split over the groups by error before they are
+simplified (the first share of run()'s progress); deviations and switch numbers are the
+asset's; ``asset_report`` holds its entry after commit().
 """
 from __future__ import annotations
 
 import threading
 from typing import Callable, Optional, Sequence, Union
 
+from . import asset as asset_set
 from . import lod
 from .settings import LodError
 
@@ -36,6 +42,9 @@ from .settings import LodError
 class ObjectObserver:
     """What :meth:`LodJob.run` tells about each object, on the thread that runs it.
     The hooks here do nothing; override the ones you need."""
+
+    def splitting(self, parts: int, targets: list) -> None:
+        """An asset's budget, ``targets`` per level, is being split over ``parts`` groups."""
 
     def started(self, lod_input: lod.LodInput) -> None:
         pass
@@ -47,9 +56,9 @@ class ObjectObserver:
         pass
 
 
-def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple) -> lod.LodInput:
+def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple, asset=None) -> lod.LodInput:
     try:
-        return lod.prepare(context, obj, settings, chain_labels)
+        return lod.prepare(context, obj, settings, chain_labels, asset)
     except LodError as ex:
         # With several objects, a message such as "the first LOD's target ... is not
         # smaller than the mesh" must say which one it is about.
@@ -61,9 +70,11 @@ def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple) -> lo
 
 class LodJob:
     def __init__(self, context, objects,
-                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]], chain_labels: tuple = ()):
+                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]], chain_labels: tuple = (),
+                 asset_name: Optional[str] = None):
         """``settings``: one for every object, or a sequence with one per object;
-        ``chain_labels``: how messages name an explicit chain (lod.prepare).
+        ``chain_labels``: how messages name an explicit chain (lod.prepare); ``asset_name``:
+        what an asset's glTF level nodes are named after (default: asset_set.default_name).
         Reads Blender data: main thread only. Raises LodError for bad input, naming the object."""
         objects = list(objects)
         per_object = list(settings) if isinstance(settings, (list, tuple)) else [settings] * len(objects)
@@ -74,13 +85,21 @@ class LodJob:
         self._group_of = []  # per object: the index of its group
         self.inputs = []  # per group: what compute() gets
         shared = {}  # lod.shared_mesh_key -> [(settings, group index)]
+        for ob in objects:
+            lod.check_source(ob)
+        self.asset = None
+        if asset_set.is_asset(objects, per_object):
+            self.asset = asset_set.asset_of(objects, asset_name or asset_set.default_name(objects))
+        self.asset_report: Optional[dict] = None  # after commit(), for an asset
+        self._matrices = []  # per group: its first object's world matrix (asset_set.split_budget)
         for ob, s in zip(objects, per_object):
             key = lod.shared_mesh_key(ob, s)
             group = None
             if key is not None:
                 group = next((g for other, g in shared.get(key, ()) if other == s), None)
             if group is None:
-                self.inputs.append(_prepare(context, ob, s, chain_labels))
+                self.inputs.append(_prepare(context, ob, s, chain_labels, self.asset))
+                self._matrices.append(asset_set.world_matrix(ob))
                 group = len(self.groups)
                 self.groups.append([])
                 if key is not None:
@@ -90,6 +109,17 @@ class LodJob:
             self.groups[group].append(ob.name)
             self.objects.append(ob.name)
             self._group_of.append(group)
+        # The asset's triangle count per level (a chain by triangles), split in run().
+        self._asset_targets = None
+        if self.asset is not None and per_object[0].deviation_chain() is None:
+            # Each mesh counted once: objects sharing one share its LODs (the report's asset
+            # entry also counts what they draw).
+            total = sum(len(i.data.faces) for i in self.inputs)
+            labels = tuple(chain_labels) or ("ratios", "triangle counts")
+            try:
+                self._asset_targets = per_object[0].targets(total, *labels[:2], source="the asset")
+            except LodError as ex:
+                raise LodError(f"the asset of {len(objects)} objects ({len(self.inputs)} meshes): {ex}") from ex
         self.outputs = []  # per group, after run()
         self.fraction = 0.0
         self.error: Optional[BaseException] = None
@@ -113,9 +143,16 @@ class LodJob:
         with the group's input, whose source is its first object)."""
         observer = observer or ObjectObserver()
         count = len(self.inputs)
+        first = 0.0  # the share of the progress the asset's split takes
+        if self._asset_targets is not None:
+            if count > 1:
+                observer.splitting(count, self._asset_targets)
+            first = self._split_budget(progress) if count > 1 else 0.0
+            if count == 1:
+                self.inputs[0].targets = list(self._asset_targets)
         for index, lod_input in enumerate(self.inputs):
             def step(fraction, index=index):
-                self.fraction = (index + fraction) / count
+                self.fraction = first + (1.0 - first) * (index + fraction) / count
                 if progress is not None:
                     progress(self.fraction)
                 observer.progress(fraction)
@@ -126,6 +163,31 @@ class LodJob:
             observer.finished(output)
             self.outputs.append(output)
         self.fraction = 1.0
+
+    # The split runs the core once over every part, geometry only: about as long as
+    # simplifying them, which also carries attributes and measures.
+    SPLIT_SHARE = 0.3
+
+    def _split_budget(self, progress) -> float:
+        """Give every group its share of the asset's targets (asset_set.split_budget);
+        returns the share of the progress it took."""
+        def step(fraction):
+            self.fraction = self.SPLIT_SHARE * fraction
+            if progress is not None:
+                progress(self.fraction)
+            return not self._cancel.is_set()
+
+        try:
+            counts = asset_set.split_budget(self.inputs, self._matrices, self._asset_targets, progress=step)
+        except lod.core.SimplifyCancelled as ex:
+            raise lod.LodCancelled("cancelled") from ex
+        except ValueError as ex:
+            raise LodError(f"splitting the asset's budget over its parts: {ex}") from ex
+        for column, lod_input in zip(counts.T, self.inputs):
+            lod_input.targets, note = asset_set.part_targets(column, len(lod_input.data.faces))
+            if note:
+                lod_input.warnings.append(note)
+        return self.SPLIT_SHARE
 
     def _run_in_thread(self) -> None:
         try:
@@ -169,4 +231,15 @@ class LodJob:
             raise lod.LodCancelled("cancelled")
         if len(self.outputs) != len(self.inputs):
             raise RuntimeError("the LOD job has not run")
-        return lod.commit(context, self.object_outputs, self.objects)
+        if self.asset is None:
+            return lod.commit(context, self.object_outputs, self.objects)
+        import bpy
+
+        chains = [(out, asset_set.world_scale(bpy.data.objects[name]))
+                  for out, name in zip(self.object_outputs, self.objects) if name in bpy.data.objects]
+        eps = asset_set.level_deviations(chains)
+        switch = None if eps is None else asset_set.switch_data(self.asset, eps, self.inputs[0].settings)
+        reports = lod.commit(context, self.object_outputs, self.objects, switch=switch)
+        asset_set.mark(self.asset, reports)
+        self.asset_report = asset_set.report(self.asset, reports, switch, eps)
+        return reports

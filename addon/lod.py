@@ -26,6 +26,7 @@ import numpy as np
 import bpy
 
 from ._core import core
+from . import asset as asset_set
 from . import bake
 from . import deviation_targets
 from . import edges as edge_util
@@ -80,6 +81,13 @@ class LodInput:
     # own (local) units, like the mesh data;
     # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
     deviations: Optional[list] = None
+    # A part of an asset (addon/asset.py): its targets are the asset budget's share
+    # (set by LodJob before compute; [] when the split removes it at LOD1), deviations are
+    # the asset's, and a level the part cannot meet is left out rather than an error.
+    # ``reference_diagonal``: what "percent" means, in the object's own units (the asset's
+    # bounding-box diagonal; None: the mesh's own).
+    in_asset: bool = False
+    reference_diagonal: Optional[float] = None
 
 
 @dataclass
@@ -287,10 +295,13 @@ def shared_mesh_key(source, settings: LodSettings):
     return source.data.as_pointer()
 
 
-def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = ()) -> LodInput:
+def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = (),
+            asset: Optional[asset_set.Asset] = None) -> LodInput:
     """Check the input and read everything the run needs from Blender (main thread).
     ``chain_labels``: how a message about the explicit chain names its ratios and triangle
-    counts (LodSettings.targets; the command line: "--ratios", "--faces")."""
+    counts (LodSettings.targets; the command line: "--ratios", "--faces"). ``asset``: the
+    asset ``source`` is a part of (addon/asset.py): a chain by triangles gets its targets
+    from the asset's budget later (LodJob), deviations are relative to the asset."""
     check_source(source)
     settings.validate()
     _, depsgraph = _scene_and_depsgraph(context_or_scene)
@@ -299,10 +310,22 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         raise LodError(f'"{source.name}" has an empty mesh')
     if len(data.faces) == 0:
         raise LodError(f'"{source.name}" has no faces, only vertices or edges: there is nothing to simplify')
-    targets = settings.targets(len(data.faces), *chain_labels)
-    deviations = None
-    if settings.deviation_chain() is not None:
-        deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
+    deviations = reference = None
+    if asset is not None:
+        # Scene units through the object's scale into its own: the same distance for every part.
+        scale = asset_set.world_scale(source)
+        if scale <= 0:
+            raise LodError(f'"{source.name}" has a zero scale')
+        reference = asset.diagonal / scale
+        targets = []  # a chain by triangles: the asset budget's share, set by LodJob
+        if settings.deviation_chain() is not None:
+            deviations = [d / scale for d in settings.deviations(asset.diagonal)]
+            # The search's rungs; none for a part too small to search (kept whole).
+            targets = deviation_targets.ladder(len(data.faces))
+    else:
+        targets = settings.targets(len(data.faces), *chain_labels)
+        if settings.deviation_chain() is not None:
+            deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     g = _importance(source, settings, data.group_names, data.group_weights)
     poses = check_poses = None
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
@@ -311,7 +334,8 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     options, names = _core_options(source, settings, data, g, poses)
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
-                    deviations=deviations, poses=poses, check_poses=check_poses)
+                    deviations=deviations, poses=poses, check_poses=check_poses, in_asset=asset is not None,
+                    reference_diagonal=reference)
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -469,20 +493,35 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             return progress is None or progress(reached[0]) is not False
         return _simplify(lod_input, targets, step, **options)
 
-    if lod_input.deviations is not None:
+    if lod_input.in_asset and not lod_input.targets and lod_input.deviations is not None:
+        # A part too small to search (addon/asset.py): whole at every level of the asset.
+        measured = {}
+        whole = _whole(lod_input, simplify, measured)
+        results, requested = [whole] * len(lod_input.deviations), list(lod_input.deviations)
+        lod_input.targets = [len(data.faces)] * len(results)
+        lod_input.warnings.append(f"too small ({len(data.faces)} triangles) for a LOD by deviation: "
+                                  f"kept whole at every level")
+    elif lod_input.in_asset and not lod_input.targets:
+        results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
+    elif lod_input.deviations is not None:
         results, requested, measured = _by_deviation(lod_input, simplify, report_progress, simplify_share)
     else:
         results = simplify(lod_input.targets)
         requested = [None] * len(results)
         measured = {}
     levels, reports = [], []
-    diagonal = measure.bbox_diagonal(data.vertices, data.faces) if lod_input.deviations is not None else None
+    diagonal = None
+    if lod_input.deviations is not None:
+        diagonal = lod_input.reference_diagonal or measure.bbox_diagonal(data.vertices, data.faces)
     if lod_input.poses is not None:
         results = _skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
                                   lambda: report_progress(simplify_share))
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
+        if k > 1 and result is results[k - 2]:  # a level repeated (an asset's part): one mesh
+            levels.append(levels[-1])
+        else:
+            levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
         entry = {
             "level": k,
@@ -663,15 +702,36 @@ def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share
         deviation_targets.coarser_each(found)
     kept = [f for f in found if f.level is not None]
     for f in found:
-        if f.level is None:
+        if f.level is None and lod_input.in_asset:
+            k = found.index(f) + 1
+            lod_input.warnings.append(
+                f"LOD{k} repeats " + (f"LOD{k - 1}" if k > 1 else "the whole part")
+                + f": nothing coarser is within the asset's deviation {f.deviation:.4g} (the object's units)")
+        elif f.level is None:
             lod_input.warnings.append(
                 f"no LOD within {f.deviation:.4g} (the object's units): no level coarser than the "
                 f"one before is measured within it")
+    if lod_input.in_asset and len(kept) < len(found):
+        # A part of an asset is in every level: where nothing coarser is within the bound,
+        # the level before repeats (at LOD1, the whole part).
+        previous = None
+        for f in found:
+            if f.level is None:
+                f.level = previous or _whole(lod_input, simplify, measured)
+            previous = f.level
+        kept = found
     if not kept:
         raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
                        f"{found[0].deviation:.4g}: ask for a larger one")
     lod_input.targets = [len(f.level.faces) for f in kept]
     return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
+
+
+def _whole(lod_input: LodInput, simplify, measured: dict):
+    """The part itself as a level (a run to its own triangle count), measured: 0 apart."""
+    whole = simplify([len(lod_input.data.faces)])[0]
+    measured[id(whole)] = _deviation_report(lod_input.data, whole)
+    return whole
 
 
 def _by_ladder(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> dict:
@@ -803,9 +863,7 @@ def switch_prop(key: str) -> str:
     return SWITCH_PROP_PREFIX + key
 
 
-def world_scale(ob) -> float:
-    """The largest axis scale of ``ob``'s world matrix (what its own units are multiplied by)."""
-    return max(abs(c) for c in ob.matrix_world.to_scale())
+world_scale = asset_set.world_scale  # (kept here too: callers name it lod.world_scale)
 
 
 def _switch_data(source, out) -> tuple:
@@ -830,7 +888,8 @@ def _set_switch_props(ob, numbers) -> None:
         ob[switch_prop(key)] = float(value)
 
 
-def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> list:
+def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
+           switch: Optional[dict] = None) -> list:
     """Write the LOD objects of each output and link them (main thread).
 
     ``sources``: the object (or its name) each output is for; by default each output's own
@@ -842,6 +901,8 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> l
 
     Everything is built unlinked first; if anything fails, what was built is removed
     and the scene is untouched. Then each source's earlier LODs are replaced.
+    ``switch``: one set of switch numbers (switch_distances.switch_data) for every chain,
+    an asset's (addon/asset.py), instead of each chain's own.
     Returns one report dict per entry of ``outputs``; the report of an object sharing
     another's LOD meshes names them (``levels[i]["mesh"]``, ``shared_with``), says whose
     entry has the time (``shares``) and has ``seconds`` 0 (levels' too), so times add up.
@@ -871,18 +932,22 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> l
             objects = []
             built.append((source, out, objects, None if first else group_names[id(out)][0]))
             for k, level in enumerate(out.levels, start=1):
-                if first:
+                # (A level repeating the one before, an asset's part that cannot get
+                # coarser, uses its mesh.)
+                new = first and not (k > 1 and level is out.levels[k - 2])
+                if new:
                     mesh = mesh_io.build_mesh(f"{source.name}_LOD{k}", level)
                     made.append(mesh)
                     meshes.append(mesh)
-                else:
-                    mesh = meshes[k - 1]
+                elif first:
+                    meshes.append(meshes[-1])
+                mesh = meshes[k - 1]
                 lod = bpy.data.objects.new(f"{source.name}_LOD{k}.tmp", mesh)
                 objects.append(lod)
-                if first:  # both are the mesh's (vertex group names too, since Blender 3.0)
+                if new:  # both are the mesh's (vertex group names too, since Blender 3.0)
                     mesh_io.add_vertex_groups(lod, level)
                     mesh_io.add_shape_keys(lod, level)
-                _copy_setup(source, lod, k, mesh_too=first)
+                _copy_setup(source, lod, k, mesh_too=new)
     except BaseException:
         for _, _, objects, _ in built:
             for lod in objects:
@@ -900,13 +965,14 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> l
         for old in previous_lods(source.name):
             if old.as_pointer() not in keep:
                 _replace_lod(old)
+    asset_switch = switch
     reports = []
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _lod_collection(scene, source)
         for k, lod in enumerate(objects, start=1):
             lod.name = f"{source.name}_LOD{k}"
-            if leader is None:
+            if leader is None and not (k > 1 and lod.data is objects[k - 2].data):
                 # Named as its LOD object, or when several objects' LODs use it, after the
                 # source mesh they all share: "<mesh>_LOD<k>".
                 lod.data.name = lod.name if len(group) == 1 else f"{source.data.name}_LOD{k}"
@@ -917,8 +983,11 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None) -> l
                 entry["seconds"] = 0.0
         data = out.input.data
         warnings = list(out.input.warnings)
-        switch, why_not = _switch_data(source, out)  # per object: its world scale
-        per_level = switch_distances.per_level(switch) if switch else [None] * (len(objects) + 1)
+        if asset_switch is not None:  # one set for the asset, each part switching with it
+            switch, why_not = asset_switch, None
+        else:
+            switch, why_not = _switch_data(source, out)  # per object: its world scale
+        per_level = switch_distances.per_level(switch)[:len(objects) + 1] if switch else [None] * (len(objects) + 1)
         for ob, numbers in zip([source] + objects, per_level):
             _set_switch_props(ob, numbers)
         if switch:

@@ -58,6 +58,8 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col.prop(settings, "levels")
         col.prop(settings, "level_factor")
         box.label(text="LOD1..%d: %s" % (settings.levels, chain_preview(settings)))
+        if len(context.selected_objects) > 1:
+            box.prop(settings, "asset_budget")
         box.prop(settings, "remove_small_components")
 
         box = layout.box()

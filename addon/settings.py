@@ -175,6 +175,16 @@ SETTINGS = (
             "percent of the object's bounding-box diagonal: it gets the fewest triangles within it",
             low=0.0, low_open=True, unit=" %", blender={"min": 0.001, "soft_max": 10.0, "precision": 3},
             what="deviation"),
+    Setting("asset_budget", True, "One Asset",
+            "The selected objects (an input file's on the command line) are one asset: each LOD's "
+            "triangle budget is spread over them by error (a bolt is not kept at half while the "
+            "hull loses detail), deviations and switch distances are relative to the whole asset's "
+            "size, and every part switches at the same distance. Off: every object is its own chain",
+            flag="--per-part",
+            cli={"help": "every object its own LOD chain (the same ratio each, deviations relative "
+                         "to its own size, its own switch distances); by default an input's objects "
+                         "are one asset"},
+            core="(core.budget.split_by_error: the parts' counts per level)"),
     Setting("pixel_error", switch_distances.DEFAULT_PIXEL_ERROR, "Pixel Error",
             "The largest error, in pixels, the first LOD may show when the object covers Screen "
             "Height pixels (deviation = object size x pixel error / screen height); each next LOD "
@@ -378,19 +388,21 @@ class _LodSettingsMethods:
             return "triangles", self._geometric(self.target_triangles)
         return "ratios", [self.ratio * self.level_factor ** k for k in range(self.levels)]
 
-    def targets(self, triangles: int, ratios_label: str = "ratios", counts_label: str = "triangle counts") -> list:
+    def targets(self, triangles: int, ratios_label: str = "ratios", counts_label: str = "triangle counts",
+                source: str = "the mesh") -> list:
         """Triangle count of each LOD for a source of ``triangles`` triangles; LodError
-        when the chain cannot be made from it (the labels as in chain_problem). A chain
-        by deviation gives the ladder of rungs its search measures (deviation_targets)."""
+        when the chain cannot be made from it (the labels as in chain_problem; ``source``:
+        how messages name what is simplified). A chain by deviation gives the ladder of
+        rungs its search measures (deviation_targets)."""
         if self.deviation_chain() is not None:
             rungs = deviation_targets.ladder(triangles)
             if not rungs:
-                raise LodError(f"a mesh of {triangles} triangles is too small for a LOD by deviation")
+                raise LodError(f"{source} ({triangles} triangles) is too small for a LOD by deviation")
             return rungs
         if self.triangle_counts is not None:
             counts = [int(n) for n in self.triangle_counts]
             if counts[0] >= triangles:
-                raise LodError(f"{counts_label} {counts[0]} is not fewer than the mesh's {triangles:,} triangles")
+                raise LodError(f"{counts_label} {counts[0]} is not fewer than {source}'s {triangles:,} triangles")
             return counts
         if self.ratios is not None:
             counts = [int(round(r * triangles)) for r in self.ratios]
@@ -402,7 +414,7 @@ class _LodSettingsMethods:
         first = self.target_triangles if self.target_triangles > 0 else int(round(self.ratio * triangles))
         if first >= triangles:
             raise LodError(
-                f"the first LOD's target ({first} triangles) is not smaller than the mesh "
+                f"the first LOD's target ({first} triangles) is not smaller than {source} "
                 f"({triangles} triangles): lower the ratio or the triangle count")
         counts = self._geometric(first)
         if counts[-1] < 1 or any(b >= a for a, b in zip(counts, counts[1:])):

@@ -212,7 +212,18 @@ def chain_switch_data(hausdorff_percent: Sequence, vertices: np.ndarray, faces: 
     scale = abs(float(world_scale))
     bounds = mesh_bounds(vertices, faces)
     eps = deviation_from_percent(hausdorff_percent, bounds.diagonal) * scale
-    radius, size = bounds.radius * scale, bounds.size * scale
+    return switch_data(eps, bounds.radius * scale, bounds.size * scale, pixel_error=pixel_error,
+                       screen_height=screen_height, vertical_fov_degrees=vertical_fov_degrees)
+
+
+def switch_data(eps: Sequence, radius: float, size: float, pixel_error: float = DEFAULT_PIXEL_ERROR,
+                screen_height: float = DEFAULT_SCREEN_HEIGHT,
+                vertical_fov_degrees: float = DEFAULT_VERTICAL_FOV_DEGREES) -> dict:
+    """:func:`chain_switch_data` from the deviations themselves: ``eps`` per level, LOD0
+    first (0.0), and the bounding sphere's ``radius`` and the box's largest side ``size``,
+    all in scene units (an asset's: addon/asset.py)."""
+    eps = np.asarray(eps, dtype=np.float64)
+    radius, size = float(radius), float(size)
     view = dict(pixel_error=pixel_error, screen_height=screen_height, vertical_fov_degrees=vertical_fov_degrees)
     d = switch_distances(eps, **view)
     cull = max(cull_distance(radius, **view), float(d[-1]))

@@ -131,20 +131,22 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
     g = p.add_argument_group("LOD chain (one LOD per value, each smaller than the one before)")
     t = g.add_mutually_exclusive_group()
     t.add_argument("--ratios", nargs="+", type=number, metavar="R",
-                   help="fractions of the source's triangles, e.g. 0.5 0.25 0.1 "
+                   help="fractions of the source's triangles (of an input's objects together: "
+                        "--per-part), e.g. 0.5 0.25 0.1 "
                         f"(default {' '.join(f'{r:g}' for r in LodSettings().chain()[1])})")
     t.add_argument("--faces", nargs="+", type=_positive_int, metavar="N",
                    help="triangle counts, e.g. 20000 5000 1000")
     t.add_argument("--max-error", nargs="+", type=_deviation, metavar="D",
                    help="the largest distance to the source each LOD may have, measured (two-sided "
-                        "Hausdorff): a number in the object's own units, or with %% in percent of the "
-                        "object's bounding-box diagonal, e.g. 0.1%% 0.5%% 2%%; each LOD is the "
+                        "Hausdorff): a number in scene units (the object's own with --per-part), or with "
+                        "%% in percent of the bounding-box diagonal of the input's objects together "
+                        "(of each object's with --per-part), e.g. 0.1%% 0.5%% 2%%; each LOD is the "
                         "fewest triangles measured within it")
     t.add_argument("--screen-size", nargs="+", type=number, metavar="PX",
                    help="the largest error in pixels each LOD may show while the object covers "
                         "--screen-height pixels (deviation = object size x PX / screen height, the "
                         "size being its bounding-box diagonal), e.g. 1 2 4")
-    add_arguments(g, ["screen_height"])
+    add_arguments(g, ["screen_height", "asset_budget"])
     g.add_argument("--lods", type=_positive_int, metavar="N",
                    help="with one --max-error or --screen-size value: N LODs, each for twice the "
                         "distance of the one before (twice the deviation), e.g. --screen-size 1 --lods 4")

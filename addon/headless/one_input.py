@@ -18,8 +18,9 @@ from .errors import InputError
 from .inputs import InputJob
 
 
-def make_lods(objects, args, console: Console, label: str, files_left_seconds: float) -> list:
-    """Simplify ``objects`` and link their LODs; returns one report entry per object."""
+def make_lods(objects, args, console: Console, label: str, files_left_seconds: float) -> tuple:
+    """Simplify ``objects`` and link their LODs; returns (one report entry per object, the
+    asset's entry or None: addon/asset.py, the input's objects as one asset)."""
     import bpy
 
     from ..job import LodJob
@@ -27,7 +28,8 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
 
     choices = sources.importance_choice(objects, args)
     settings = [lod_settings(args, importance_source=source, importance_group=group) for source, group, _ in choices]
-    job = LodJob(bpy.context, objects, settings, CHAIN_LABELS)
+    # An input's objects are one asset (addon/asset.py), named after the file.
+    job = LodJob(bpy.context, objects, settings, CHAIN_LABELS, asset_name=asset_name(label))
     # Objects sharing one input (LodJob: one mesh, equal settings) have the same note.
     for lod_input, (_, _, note) in zip(job.object_inputs, choices):
         if note and note not in lod_input.warnings:
@@ -36,7 +38,14 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     job.run(observer=ProgressLines(console, label, job.inputs, files_left_seconds))
     reports = job.commit(bpy.context)
     return [report.chain_entry(rep, out, sources.importance_label(source, group))
-            for rep, out, (source, group, _) in zip(reports, job.object_outputs, choices)]
+            for rep, out, (source, group, _) in zip(reports, job.object_outputs, choices)], job.asset_report
+
+
+def asset_name(label: str) -> str:
+    """An input's asset name: its file name without the extension ("engine.glb": "engine")."""
+    from pathlib import PurePath
+
+    return PurePath(label).stem or label
 
 
 def name_chains(entries: list, lod_group: bool) -> None:
@@ -76,9 +85,11 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         lod_group.restore_base_names(scene)
         objects, skipped = sources.select_objects(scene, args.objects)
         entry["warnings"] += skipped
-        entries = make_lods(objects, args, console, job.label, files_left_seconds)
+        entries, asset = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group)
         entry["objects"] = entries
+        if asset is not None:
+            entry["asset"] = asset
         if job.outputs:
             freshness.forget(job.outputs)  # an interrupted rewrite is never taken for done
         for out in job.outputs:

@@ -26,7 +26,8 @@ class TimeLeft:
     PRIOR_MEASURE = 0.5  # s per LOD measured at lod.DEVIATION_SAMPLES samples
 
     def __init__(self, inputs, later: float):
-        self.simplify_left = sum(len(i.data.faces) - i.targets[-1] for i in inputs)
+        # (An asset's parts get their targets when its budget is split: until then, all.)
+        self.simplify_left = sum(len(i.data.faces) - (i.targets[-1] if i.targets else 0) for i in inputs)
         # LODs to measure (a chain by deviation: its bounds; its targets are the search's rungs).
         self.measure_left = sum(len(i.targets) if i.deviations is None else len(i.deviations)
                                 for i in inputs if i.settings.measure_deviation or i.deviations is not None)
@@ -66,11 +67,16 @@ class ProgressLines(ObjectObserver):
         self.label = label
         self.estimate = TimeLeft(inputs, later)
 
+    def splitting(self, parts: int, targets: list) -> None:
+        self.console.progress(f"[{self.label}] one asset of {parts} meshes: splitting its budget ("
+                              + ", ".join(f"LOD{k} {t:,}" for k, t in enumerate(targets, start=1))
+                              + " triangles) over them by error")
+
     def started(self, lod_input) -> None:
         self.input = lod_input
         m = len(lod_input.data.faces)
         targets = lod_input.targets
-        self.removed = max(m - targets[-1], 1)
+        self.removed = max(m - (targets[-1] if targets else m), 1)
         if lod_input.deviations is not None:
             # A chain by deviation: the targets are the search's rungs, not LODs; the LODs
             # are known when it is done.

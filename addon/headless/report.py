@@ -135,6 +135,10 @@ def format_table(files: list) -> str:
                     f"{level['sliver_percent']:.2f}",
                     "-" if level["level"] == 0 else "shared" if shared else f"{level['seconds']:.2f}",
                 ])
+        for level in (f.get("asset") or {}).get("levels", []):
+            # The whole asset (addon/asset.py): what it draws, its deviation in % of its size.
+            rows.append([f["label"], "(asset)", f"LOD{level['level']}", f"{level['triangles']:,}", "-",
+                         _fmt(level.get("hausdorff_percent"), ".3f"), "-", "-", "-", "-", "-"])
     if not rows:
         return ""
     widths = [max(len(str(r[i])) for r in rows + [header]) for i in range(len(header))]

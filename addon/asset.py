@@ -1,0 +1,184 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The objects of one run as one asset (issue 32): one LOD set, not one chain per part.
+
+Artists ship assets (a character's body, clothes and eyes; an engine's hundred parts), and
+an engine switches an asset's levels together. So when ``asset_budget`` is on (the
+default) and a run has several objects:
+  * a chain by triangles is the asset's: each level's budget (its ratio of all the parts'
+    triangles, or its count) is spread over the parts by error, core.budget.split_by_error
+    on every part in world space; each part is then simplified to its share. A part the
+    split removes at a level leaves the asset from there on (it costs less error gone than
+    simplifying the rest further), a part it keeps whole stays whole;
+  * a chain by deviation or screen size is relative to the asset's bounding box, and in
+    scene units, so every part is held to the same distance;
+  * every part of level k gets the same switch numbers, from the largest measured
+    deviation of that level over the parts, in scene units, and the asset's bounds.
+Objects sharing a mesh (LodJob's groups) are one part, placed by their first object.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from ._core import core
+from . import switch_distances
+from .settings import LodSettings
+
+
+# On every object of an asset's chains, sources too: the asset's name (addon/gltf_lod.py
+# makes each of its levels one glTF subtree with it).
+ASSET_PROP = "lqlod_asset"
+
+
+@dataclass(frozen=True)
+class Asset:
+    """The asset's bounds in scene units (the objects' world-space bounding boxes), how
+    many objects it has, and its name."""
+    bounds: switch_distances.Bounds
+    objects: int
+    name: str = "Asset"
+
+    @property
+    def diagonal(self) -> float:
+        return self.bounds.diagonal
+
+
+def is_asset(objects: list, settings: list) -> bool:
+    """Whether a run of ``objects`` (one LodSettings each) is one asset: several objects,
+    ``asset_budget`` on for all and one chain for all (objects given chains of their own
+    are chains of their own)."""
+    if len(objects) < 2 or not all(s.asset_budget for s in settings):
+        return False
+    chains = [(s.chain(), s.deviation_chain()) for s in settings]
+    return all(c == chains[0] for c in chains)
+
+
+def world_matrix(ob) -> np.ndarray:
+    """``ob``'s world matrix as a (4, 4) array."""
+    return np.array([list(row) for row in ob.matrix_world], dtype=np.float64)
+
+
+def world_scale(ob) -> float:
+    """The largest axis scale of ``ob``'s world matrix (what its own units are multiplied by)."""
+    return max(abs(c) for c in ob.matrix_world.to_scale())
+
+
+def in_world(vertices: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """(n, 3) local coordinates through a (4, 4) world matrix."""
+    return np.asarray(vertices, dtype=np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def asset_of(objects: list, name: str) -> Asset:
+    """The asset made of ``objects``: their bounding boxes (Blender's, of the evaluated
+    mesh) in world space, one box around them all."""
+    corners = np.concatenate([in_world(np.array([tuple(c) for c in ob.bound_box], dtype=np.float64),
+                                       world_matrix(ob)) for ob in objects])
+    return Asset(switch_distances.mesh_bounds(corners), len(objects), name)
+
+
+def default_name(objects: list) -> str:
+    """An asset's name when none is given: the collection holding all of its objects (not
+    a scene's own), else "Asset"."""
+    import bpy
+
+    # (A scene's own collection is not in bpy.data.collections.)
+    shared = set.intersection(*[{c.name for c in ob.users_collection} for ob in objects])
+    named = sorted(n for n in shared if n in bpy.data.collections)
+    return named[0] if named else "Asset"
+
+
+def mark(asset: Asset, reports: list) -> None:
+    """Name the asset on every object of its chains (ASSET_PROP), sources and LODs."""
+    import bpy
+
+    for rep in reports:
+        for name in [rep["object"]] + [level["name"] for level in rep["levels"]]:
+            ob = bpy.data.objects.get(name)
+            if ob is not None:
+                ob[ASSET_PROP] = asset.name
+
+
+def split_options(settings: LodSettings) -> core.Options:
+    """The core options of the split run: the settings' shape controls, geometry only."""
+    return core.Options(line_weight=float(settings.line_weight), min_quality=float(settings.min_quality),
+                        feature_angle=float(settings.feature_angle) or None,
+                        remove_small_components=bool(settings.remove_small_components),
+                        boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0)
+
+
+def split_budget(inputs: list, matrices: list, totals: list,
+                 progress: Optional[Callable[[float], object]] = None) -> np.ndarray:
+    """(levels, parts) triangle counts: the asset's ``totals`` spread over the parts
+    (``inputs``: one lod.LodInput each, ``matrices`` their world matrices) by error."""
+    parts = [(in_world(i.data.vertices, m), i.data.faces) for i, m in zip(inputs, matrices)]
+    controls = []
+    for i in inputs:
+        o = i.core_options
+        keys = {"quadric_scale": o.quadric_scale, "line_weights": o.line_weights,
+                "line_scale_exponent": o.line_scale_exponent}
+        controls.append({k: v for k, v in keys.items() if v is not None} if o.quadric_scale is not None
+                        or o.line_weights is not None else None)
+    return core.budget.split_by_error(parts, totals, split_options(inputs[0].settings), controls=controls,
+                                      progress=progress)
+
+
+def part_targets(counts: np.ndarray, faces: int) -> tuple:
+    """(targets, note) of a part from its column of split_budget: the levels where it has
+    triangles (a part the split removed leaves the asset from that level on), and what
+    the report says about it (or None)."""
+    kept = [int(c) for c in counts if c > 0]
+    if len(kept) == len(counts):
+        whole = sum(1 for c in kept if c >= faces)
+        note = None if whole == 0 else (
+            f"kept whole at LOD1-{whole}" if whole > 1 else "kept whole at LOD1") + \
+            " (the asset's budget is spent where it lowers the error more)"
+        return kept, note
+    return kept, (f"leaves the asset from LOD{len(kept) + 1}: removing it costs less error than "
+                  f"simplifying the other parts further")
+
+
+def level_deviations(chains: list) -> Optional[list]:
+    """The asset's measured deviation per level, LOD0 first (0.0), scene units: per level
+    the largest over the parts that have it. ``chains``: (lod.LodOutput, world scale) per
+    object. None when a level was not measured."""
+    eps = [0.0]
+    for out, scale in chains:
+        diagonal = switch_distances.mesh_bounds(out.input.data.vertices, out.input.data.faces).diagonal
+        for k, entry in enumerate(out.reports, start=1):
+            if "hausdorff_percent" not in entry:
+                return None
+            while len(eps) <= k:
+                eps.append(0.0)
+            eps[k] = max(eps[k], entry["hausdorff_percent"] / 100.0 * diagonal * scale)
+    return list(np.maximum.accumulate(eps)) if len(eps) > 1 else None
+
+
+def switch_data(asset: Asset, eps: list, settings: LodSettings) -> dict:
+    """switch_distances.switch_data of the asset: one set of switch numbers for every part."""
+    return switch_distances.switch_data(eps, asset.bounds.radius, asset.bounds.size,
+                                        pixel_error=settings.pixel_error, screen_height=settings.screen_height,
+                                        vertical_fov_degrees=settings.vertical_fov)
+
+
+def report(asset: Asset, reports: list, switch: Optional[dict], eps: Optional[list]) -> dict:
+    """The run's asset entry: what the asset draws per level (every object counted, shared
+    meshes too), its measured deviation in scene units and in percent of its diagonal,
+    and its switch numbers."""
+    levels = max((len(r["levels"]) for r in reports), default=0)
+    out = {"name": asset.name, "objects": asset.objects, "bounding_box_diagonal": asset.diagonal,
+           "source_triangles": int(sum(r["source_triangles"] for r in reports)), "levels": []}
+    for k in range(1, levels + 1):
+        present = [r for r in reports if len(r["levels"]) >= k]
+        entry = {"level": k, "parts": len(present),
+                 "triangles": int(sum(r["levels"][k - 1]["triangles"] for r in present))}
+        if eps is not None:
+            entry["hausdorff"] = float(eps[k])
+            entry["hausdorff_percent"] = float(100.0 * eps[k] / asset.diagonal) if asset.diagonal > 0 else 0.0
+        if switch is not None:
+            entry.update({key: switch[key][k] for key in switch_distances.PER_LEVEL_KEYS})
+        out["levels"].append(entry)
+    if switch is not None:
+        out["switch"] = {key: value for key, value in switch.items() if key not in switch_distances.PER_LEVEL_KEYS}
+    return out

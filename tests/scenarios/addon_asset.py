@@ -1,0 +1,86 @@
+"""Several objects as one asset (issue 32 §1) through LodJob, the checkout's addon
+(tests/test_addon_asset.py checks what this returns; runs without the extension installed).
+
+The asset: a hull (a UV sphere of radius 2), two instances of one dense bolt (an ico
+sphere of radius 0.05, 1,280 triangles) on it, and a decal (one quad, 2 triangles). Each
+run starts from that scene; ``job`` names what it ran.
+"""
+import bpy
+import numpy as np
+
+from addon import job as job_mod
+from addon import lod
+from scene_tools import mesh_hash, remove_all_objects
+
+
+def build() -> list:
+    remove_all_objects()
+    for me in list(bpy.data.meshes):
+        bpy.data.meshes.remove(me)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=2.0)
+    hull = bpy.context.active_object
+    hull.name = "Hull"
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=0.05, location=(2.0, 0.0, 0.3))
+    bolt = bpy.context.active_object
+    bolt.name = "Bolt"
+    bolt.data.name = "BoltMesh"
+    other = bpy.data.objects.new("Bolt2", bolt.data)
+    other.location = (-2.0, 0.0, 0.3)
+    bpy.context.scene.collection.objects.link(other)
+    bpy.ops.mesh.primitive_plane_add(size=0.3, location=(0.0, 2.05, 0.0))
+    decal = bpy.context.active_object
+    decal.name = "Decal"
+    return [hull, bolt, other, decal]
+
+
+def triangles(ob) -> int:
+    ob.data.calc_loop_triangles()
+    return len(ob.data.loop_triangles)
+
+
+def run_job(**settings) -> dict:
+    objects = build()
+    names = [ob.name for ob in objects]
+    hashes = {ob.name: mesh_hash(ob.data) for ob in objects}
+    source_triangles = {ob.name: triangles(ob) for ob in objects}
+    out = {"names": names, "source_triangles": source_triangles}
+    try:
+        job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(**settings))
+        fractions = []
+        job.run(progress=fractions.append)
+        reports = job.commit(bpy.context)
+    except lod.LodError as ex:
+        out["error"] = str(ex)
+        return out
+    out["fraction_monotonic"] = all(b >= a for a, b in zip(fractions, fractions[1:]))
+    out["asset"] = job.asset_report
+    out["unchanged"] = all(mesh_hash(bpy.data.objects[n].data) == h for n, h in hashes.items())
+    out["reports"] = {r["object"]: {"levels": [{k: v for k, v in lev.items() if k != "importance"}
+                                              for lev in r["levels"]],
+                                    "warnings": r["warnings"], "switch": r["switch"]} for r in reports}
+    out["lods"] = {}
+    for r in reports:
+        chain = []
+        for lev in r["levels"]:
+            ob = bpy.data.objects[lev["name"]]
+            chain.append({"triangles": triangles(ob), "mesh": ob.data.name,
+                          "switch": ob.get("lqlod_switch_distance"), "scale": max(ob.matrix_world.to_scale())})
+        out["lods"][r["object"]] = chain
+    out["source_switch"] = {n: bpy.data.objects[n].get("lqlod_switch_distance") for n in names}
+    corners = np.concatenate([np.array([bpy.data.objects[n].matrix_world @ __import__("mathutils").Vector(c)
+                                        for c in bpy.data.objects[n].bound_box]) for n in names])
+    out["asset_diagonal"] = float(np.linalg.norm(corners.max(0) - corners.min(0)))
+    out["world_scale"] = {n: float(max(bpy.data.objects[n].matrix_world.to_scale())) for n in names}
+    return out
+
+
+def run() -> dict:
+    return {
+        "asset": run_job(ratios=(0.5, 0.25, 0.125)),
+        "asset_unmeasured": run_job(ratios=(0.5, 0.25, 0.125), measure_deviation=False),
+        "per_part": run_job(ratios=(0.5, 0.25, 0.125), asset_budget=False),
+        "deviation": run_job(max_deviations=((1.0, True), (4.0, True))),
+        "deviation_per_part": run_job(max_deviations=((1.0, True), (4.0, True)), asset_budget=False,
+                                      measure_deviation=False),
+        "too_small": run_job(triangle_counts=(10_000,)),
+    }
