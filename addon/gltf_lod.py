@@ -20,12 +20,25 @@ What the hooks write, for each chain whose objects are all exported and were mea
 and "MSFT_lod" in extensionsUsed (not extensionsRequired: a reader without it shows LOD0).
 The LOD nodes stay where the exporter put them, in the scene, so readers that do not
 know MSFT_lod (Blender, Godot) still get every level as a node of its own.
+
+An asset (addon/asset.py: its objects carry ``lqlod_asset``, its name) switches as one:
+    before the exporter numbers the nodes (gather_gltf_hook), each level k >= 1 becomes
+    a node "<asset>_LODk" at the scene's root whose children are that level's nodes,
+    moved there with their world transforms; LOD0 is the smallest subtree holding every
+    source's node (a new root "<asset>_LOD0" over the roots holding them when they have
+    no common ancestor). MSFT_lod and MSFT_screencoverage go on LOD0's node, the level
+    nodes as its ids: each level a whole subtree, switched at the asset's distances.
+    An asset with a skinned part keeps one MSFT_lod per chain instead: its skins' joints
+    live in LOD0's subtree, which a reader swapping whole subtrees would take away.
 """
 from __future__ import annotations
 
 import bpy
 
+import numpy as np
+
 from . import lod
+from .asset import ASSET_PROP  # on an asset's objects: its name
 from .lod_group import BASE_NAME_PROP
 
 EXTENSION_NAME = "MSFT_lod"
@@ -55,6 +68,8 @@ class glTF2ExportUserExtension:
     def __init__(self):
         self.chains = {}  # source name -> {level: glTF node}
         self.coverage = {}  # source name -> {level: MSFT screen coverage}
+        self.asset_of = {}  # source name -> its asset's name
+        self.assets = {}  # asset name -> its root node (LOD0) and level nodes, once made whole
         self.active = True
 
     def _claim(self, export_settings) -> bool:
@@ -68,6 +83,9 @@ class glTF2ExportUserExtension:
         if key is None:
             return
         self.chains.setdefault(key[0], {})[key[1]] = gltf2_node
+        asset = blender_object.get(ASSET_PROP)
+        if isinstance(asset, str) and asset:
+            self.asset_of[key[0]] = asset
         self.coverage.setdefault(key[0], {})[key[1]] = float(
             blender_object[lod.switch_prop("msft_screen_coverage")])
         extras = gltf2_node.extras if isinstance(gltf2_node.extras, dict) else {}
@@ -75,12 +93,40 @@ class glTF2ExportUserExtension:
             extras[extra] = float(blender_object[lod.switch_prop(prop)])
         gltf2_node.extras = extras
 
+    def gather_gltf_hook(self, active_scene_idx, scenes, animations, export_settings):
+        """Each asset's levels as whole subtrees (module docstring), while the nodes are
+        still objects: the exporter numbers them after this."""
+        if not self.asset_of or not self.active:
+            return
+        members = {}  # asset -> {level: [nodes]}
+        for base, asset in self.asset_of.items():
+            for level, node in self.chains.get(base, {}).items():
+                members.setdefault(asset, {}).setdefault(level, []).append(node)
+        for scene in scenes:
+            tree = _Tree(scene)
+            for asset, levels in members.items():
+                made = _asset_levels(tree, asset, levels, export_settings)
+                if made is not None:
+                    self.assets[asset] = made
+
     def gather_gltf_extensions_hook(self, gltf2_plan, export_settings):
         if not self.chains or not self.active:
             return
         index = {id(node): i for i, node in enumerate(gltf2_plan.nodes)}
         written = 0
+        for asset, (top, levels) in self.assets.items():
+            if id(top) not in index or any(id(node) not in index for node in levels):
+                continue
+            coverage = [self._asset_coverage(asset, level) for level in range(len(levels) + 1)]
+            top.extensions = top.extensions or {}
+            top.extensions[EXTENSION_NAME] = {"ids": [index[id(node)] for node in levels]}
+            top.extras = top.extras if isinstance(top.extras, dict) else {}
+            top.extras[COVERAGE_EXTRA] = coverage
+            written += 1
+        in_assets = {base for base, asset in self.asset_of.items() if asset in self.assets}
         for base, nodes in self.chains.items():
+            if base in in_assets:
+                continue  # its asset switches as a whole
             n_lods = len(lod.previous_lods(base))
             if n_lods == 0 or sorted(nodes) != list(range(n_lods + 1)) or \
                     any(id(node) not in index for node in nodes.values()):
@@ -96,3 +142,159 @@ class glTF2ExportUserExtension:
             written += 1
         if written and EXTENSION_NAME not in gltf2_plan.extensions_used:
             gltf2_plan.extensions_used.append(EXTENSION_NAME)
+
+    def _asset_coverage(self, asset: str, level: int) -> float:
+        """The asset's MSFT screen coverage at ``level`` (every part has the same)."""
+        return next(self.coverage[base][level] for base, a in self.asset_of.items()
+                    if a == asset and level in self.coverage.get(base, {}))
+
+
+def _local_matrix(node) -> np.ndarray:
+    """A glTF node's transform as a 4x4 matrix (its matrix, or T * R * S)."""
+    if node.matrix:  # (the exporter leaves [] or None for none)
+        return np.array(node.matrix, dtype=np.float64).reshape(4, 4).T  # column-major
+    out = np.eye(4)
+    if node.scale:
+        out = np.diag([*node.scale, 1.0]) @ out
+    if node.rotation:
+        x, y, z, w = node.rotation
+        r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        rot = np.eye(4)
+        rot[:3, :3] = r
+        out = rot @ out
+    if node.translation:
+        move = np.eye(4)
+        move[:3, 3] = node.translation
+        out = move @ out
+    return out
+
+
+def _set_transform(node, matrix: np.ndarray) -> None:
+    """Give ``node`` the 4x4 ``matrix``: as translation, rotation and scale when it is one
+    (no shear), else as its matrix."""
+    linear = matrix[:3, :3]
+    scale = np.linalg.norm(linear, axis=0)
+    if np.all(scale > 1e-12):
+        if np.linalg.det(linear) < 0:
+            scale[0] = -scale[0]
+        r = linear / scale
+        w = np.sqrt(max(0.0, 1.0 + np.trace(r))) / 2.0
+        if w > 1e-6:
+            q = np.array([(r[2, 1] - r[1, 2]) / (4 * w), (r[0, 2] - r[2, 0]) / (4 * w),
+                          (r[1, 0] - r[0, 1]) / (4 * w), w])
+        else:  # a half turn: from the largest diagonal entry
+            i = int(np.argmax(np.diag(r)))
+            j, k = (i + 1) % 3, (i + 2) % 3
+            q = np.zeros(4)
+            q[i] = np.sqrt(max(0.0, 1.0 + r[i, i] - r[j, j] - r[k, k])) / 2.0
+            q[j] = (r[j, i] + r[i, j]) / (4 * q[i])
+            q[k] = (r[k, i] + r[i, k]) / (4 * q[i])
+            q[3] = (r[k, j] - r[j, k]) / (4 * q[i])
+        q /= np.linalg.norm(q)
+        node.matrix = None
+        node.translation = [float(v) for v in matrix[:3, 3]] if np.any(matrix[:3, 3] != 0) else None
+        node.rotation = [float(v) for v in q] if not np.allclose(q, [0, 0, 0, 1]) else None
+        node.scale = [float(v) for v in scale] if not np.allclose(scale, 1.0) else None
+        if np.allclose(_local_matrix(node), matrix, atol=1e-6 * max(1.0, np.abs(matrix).max())):
+            return
+    node.translation = node.rotation = node.scale = None
+    node.matrix = [float(v) for v in matrix.T.reshape(-1)]
+
+
+class _Tree:
+    """A gathered glTF scene's hierarchy (nodes still objects): each node's parent (None
+    at the root) and world matrix, by id."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self.parent, self.world = {}, {}
+        stack = [(node, None, np.eye(4)) for node in scene.nodes]
+        while stack:
+            node, parent, above = stack.pop()
+            self.parent[id(node)] = parent
+            self.world[id(node)] = above @ _local_matrix(node)
+            stack.extend((child, node, self.world[id(node)]) for child in (node.children or []))
+
+    def holds(self, node) -> bool:
+        return id(node) in self.parent
+
+    def ancestors(self, node) -> list:
+        """``node`` and its ancestors, up to its root."""
+        out = []
+        while node is not None:
+            out.append(node)
+            node = self.parent[id(node)]
+        return out
+
+    def detach(self, node) -> None:
+        parent = self.parent[id(node)]
+        siblings = self.scene.nodes if parent is None else parent.children
+        siblings[:] = [n for n in siblings if n is not node]
+        if parent is not None and not parent.children:
+            parent.children = None
+
+    def add_root(self, node) -> None:
+        self.scene.nodes.append(node)
+        self.parent[id(node)] = None
+        self.world[id(node)] = np.eye(4)
+
+
+def _new_node(name: str, children: list):
+    from io_scene_gltf2.io.com import gltf2_io
+
+    return gltf2_io.Node(camera=None, children=children, extensions=None, extras=None, matrix=None, mesh=None,
+                         name=name, rotation=None, scale=None, skin=None, translation=None, weights=None)
+
+
+def _common_ancestor(tree: _Tree, nodes: list):
+    """The deepest node above (or among) all ``nodes``, or None when they have different roots."""
+    paths = [tree.ancestors(node)[::-1] for node in nodes]  # root first
+    common = None
+    for step in zip(*paths):
+        if any(n is not step[0] for n in step):
+            break
+        common = step[0]
+    return common
+
+
+def _asset_levels(tree: _Tree, asset: str, levels: dict, export_settings):
+    """Make the asset's levels whole subtrees in ``tree`` (module docstring); returns
+    (LOD0's node, [level nodes]) or None (not in this scene, a level missing, skinned)."""
+    count = max(levels) if levels else 0
+    if count == 0 or sorted(levels) != list(range(count + 1)):
+        return None
+    if not all(tree.holds(node) for nodes in levels.values() for node in nodes):
+        return None
+    if any(node.skin is not None for nodes in levels.values() for node in nodes):
+        export_settings['log'].info(
+            f"{EXTENSION_NAME}: the asset {asset!r} has skinned parts: one {EXTENSION_NAME} per part")
+        return None
+    level_nodes = []
+    for level in range(1, count + 1):
+        moved = levels[level]
+        for node in moved:  # to the new level root, where it stays put in the world
+            world = tree.world[id(node)]
+            tree.detach(node)
+            if not np.allclose(world, _local_matrix(node), atol=1e-9):
+                _set_transform(node, world)
+        root = _new_node(f"{asset}_LOD{level}", list(moved))
+        tree.add_root(root)
+        for node in moved:
+            tree.parent[id(node)] = root
+        level_nodes.append(root)
+    top = _common_ancestor(tree, levels[0])
+    if top is None:  # several roots: one new root above those holding the sources
+        roots = []
+        for node in levels[0]:
+            root = tree.ancestors(node)[-1]
+            if all(root is not r for r in roots):
+                roots.append(root)
+        for root in roots:
+            tree.detach(root)
+        top = _new_node(f"{asset}_LOD0", roots)
+        tree.add_root(top)
+        tree.scene.nodes.remove(top)
+        tree.scene.nodes.insert(0, top)
+    return top, level_nodes

@@ -44,6 +44,26 @@ def _chain(obj: dict) -> dict:
     return chain
 
 
+def _asset(entry: dict) -> dict:
+    """An asset's LOD set (addon/asset.py): per level, LOD0 first, the objects an engine's
+    one LOD group holds there (a part the budget's split removed is in none from there
+    on) and the asset's switch numbers, which every part's chain above repeats."""
+    asset = entry["asset"]
+    count = len(asset["levels"])
+    renderers = [[obj["levels"][k]["name"] for obj in entry["objects"] if len(obj["levels"]) > k]
+                 for k in range(count + 1)]
+    out = {"name": asset["name"], "bounding_box_diagonal": asset["bounding_box_diagonal"],
+           "levels": [{"level": k, "objects": renderers[k]} for k in range(count + 1)]}
+    chains = [obj for obj in entry["objects"] if obj.get("switch")]
+    if chains and asset.get("switch"):
+        first = chains[0]["levels"]  # (every part of a level has the asset's numbers)
+        for k, level in enumerate(out["levels"]):
+            source = first[0] if k == 0 else asset["levels"][k - 1]
+            level.update({key: source[key] for key in sd.PER_LEVEL_KEYS if key in source})
+        out["switch"] = dict(asset["switch"])
+    return out
+
+
 def _view(entry: dict) -> dict:
     """The view the numbers were computed for (the run's --pixel-error, --screen-height,
     --fov), as the chains' switch data carries it."""
@@ -64,6 +84,7 @@ def content(entry: dict) -> dict:
         "units": "distances in scene units (Blender: metres at unit scale 1); screen values as a share "
                  "of the screen height; see docs/engines.md",
         "objects": [_chain(obj) for obj in entry["objects"]],
+        **({"asset": _asset(entry)} if entry.get("asset") else {}),
     }
 
 
