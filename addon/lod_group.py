@@ -43,37 +43,80 @@ def rename_as_lod0(source) -> str:
     return source.name
 
 
+def _empty(context, name: str, collection):
+    """The Empty ``name`` (made in ``collection`` unless it exists)."""
+    empty = bpy.data.objects.get(name)
+    if empty is None or empty.type != 'EMPTY':
+        empty = bpy.data.objects.new(name, None)
+        collection.objects.link(empty)
+    return empty
+
+
+def _parent_keeping_place(obs: list, parent) -> None:
+    for ob in obs:
+        world = ob.matrix_world.copy()
+        ob.parent = parent
+        ob.parent_type = 'OBJECT'
+        ob.matrix_parent_inverse.identity()
+        ob.matrix_world = world
+
+
+def _set_screen_sizes(empty, levels: list) -> None:
+    """Unreal's screen size per level on the group, from each level's first object (when measured)."""
+    for key in [k for k in empty.keys() if k.startswith(UNREAL_SCREEN_SIZE_PROP)]:
+        del empty[key]
+    sizes = [obs[0].get(lod.switch_prop("unreal_screen_size")) if obs else None for obs in levels]
+    if all(size is not None for size in sizes):
+        for level, size in enumerate(sizes):
+            empty[f"{UNREAL_SCREEN_SIZE_PROP}{level}"] = float(size)
+
+
+def group_asset(context, name: str, levels: list):
+    """One Unreal LOD group for a whole asset (addon/asset.py): the Empty
+    "<name>_LODGroup" (fbx_type LodGroup, at the world's origin, in the scene's own
+    collection) with one child Empty "<name>_LOD<k>" per level, parent of that level's
+    objects (``levels[k]``, LOD0 the sources), each kept where it is in the world.
+    Unreal's importer takes every mesh under a level's node as that LOD (Combine Meshes
+    joins them). Returns the group Empty."""
+    context.view_layer.update()
+    collection = context.scene.collection
+    group = _empty(context, name + LOD_GROUP_SUFFIX, collection)
+    group["fbx_type"] = "LodGroup"
+    group.parent = None
+    group.matrix_world.identity()
+    _set_screen_sizes(group, levels)
+    for k, obs in enumerate(levels):
+        level = _empty(context, f"{name}_LOD{k}", collection)
+        level.parent = group
+        level.matrix_parent_inverse.identity()
+        level.matrix_world.identity()
+        context.view_layer.update()
+        _parent_keeping_place(obs, level)
+    k = len(levels)  # levels an earlier run made that this one does not: gone once empty
+    while (old := bpy.data.objects.get(f"{name}_LOD{k}")) is not None and old.type == 'EMPTY' and not old.children:
+        bpy.data.objects.remove(old)
+        k += 1
+    return group
+
+
 def group_chain(context, base: str, chain: list):
     """Parent ``chain`` (LOD0 first) to the Empty "<base>_LODGroup", made where LOD0 is
     unless it exists, keeping every object where it is in the world. Returns the Empty."""
     scene = context.scene
     source = chain[0]
     name = base + LOD_GROUP_SUFFIX
-    empty = bpy.data.objects.get(name)
-    if empty is None or empty.type != 'EMPTY':
-        empty = bpy.data.objects.new(name, None)
-        # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
-        collection = next((c for c in source.users_collection if lod.in_scene(c, scene)), scene.collection)
-        collection.objects.link(empty)
+    # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
+    collection = next((c for c in source.users_collection if lod.in_scene(c, scene)), scene.collection)
+    empty = _empty(context, name, collection)
     empty["fbx_type"] = "LodGroup"
     # Unreal's screen size per level (switch_distances.py), when the chain was measured:
     # "lqlod_unreal_screen_size_LOD0" .. "_LODn", written by the FBX exporter as custom properties.
-    for key in [k for k in empty.keys() if k.startswith(UNREAL_SCREEN_SIZE_PROP)]:
-        del empty[key]
-    sizes = [ob.get(lod.switch_prop("unreal_screen_size")) for ob in chain]
-    if all(size is not None for size in sizes):
-        for level, size in enumerate(sizes):
-            empty[f"{UNREAL_SCREEN_SIZE_PROP}{level}"] = float(size)
+    _set_screen_sizes(empty, [[ob] for ob in chain])
     # The group takes LOD0's place in the hierarchy (an armature or bone parent stays).
     empty.parent = source.parent
     if source.parent is not None and source.parent_type == 'BONE':
         empty.parent_type, empty.parent_bone = 'BONE', source.parent_bone
     empty.matrix_parent_inverse = source.matrix_parent_inverse.copy()
     context.view_layer.update()
-    for ob in chain:
-        world = ob.matrix_world.copy()
-        ob.parent = empty
-        ob.parent_type = 'OBJECT'
-        ob.matrix_parent_inverse.identity()
-        ob.matrix_world = world
+    _parent_keeping_place(chain, empty)
     return empty

@@ -101,10 +101,12 @@ def test_bad_option_and_help_through_the_handler(result):
 
 def test_rerun_on_its_own_output_replaces_the_lods(result):
     assert result["rerun"]["code"] == 0, result["rerun"]
-    assert result["rerun_objects"] == ["Camera", "Rock_LOD0", "Rock_LOD1", "Rock_LODGroup",
-                                       "Slab_LOD0", "Slab_LOD1", "Slab_LODGroup"]
+    # One asset (good.blend's objects): one Unreal LOD group, a node per level holding its parts.
+    assert result["rerun_objects"] == ["Camera", "Rock_LOD0", "Rock_LOD1", "Slab_LOD0", "Slab_LOD1",
+                                       "good_LOD0", "good_LOD1", "good_LODGroup"]
     meshes = result["rerun_meshes"]
     assert [meshes["Rock_LOD0"]["triangles"], meshes["Slab_LOD0"]["triangles"]] == [1280, 960], meshes
     # A quarter of the asset's 2,240 triangles (asset_budget), split by error.
     assert abs(meshes["Rock_LOD1"]["triangles"] + meshes["Slab_LOD1"]["triangles"] - 560) <= 1, meshes
-    assert meshes["Rock_LOD1"]["parent"] == "Rock_LODGroup", meshes["Rock_LOD1"]
+    assert meshes["Rock_LOD1"]["parent"] == "good_LOD1", meshes["Rock_LOD1"]
+    assert meshes["Slab_LOD0"]["parent"] == "good_LOD0", meshes["Slab_LOD0"]

@@ -48,20 +48,32 @@ def asset_name(label: str) -> str:
     return PurePath(label).stem or label
 
 
-def name_chains(entries: list, lod_group: bool) -> None:
-    """Rename each source "<name>_LOD0" and, with ``lod_group``, group each chain for
-    Unreal (addon/lod_group.py); the entries get the new names."""
+def name_chains(entries: list, lod_group: bool, asset: dict = None) -> None:
+    """Rename each source "<name>_LOD0" and, with ``lod_group``, group for Unreal
+    (addon/lod_group.py): an asset without skinned parts as one LOD group, else each
+    chain; the entries get the new names (and ``asset`` its group's)."""
     import bpy
 
     from .. import lod_group as naming
+    from ..lod import armature_of
 
+    chains = {}
     for entry in entries:
         base = entry["object"]
         source = bpy.data.objects[base]
         entry["levels"][0]["name"] = naming.rename_as_lod0(source)
-        if lod_group:
-            chain = [source] + [bpy.data.objects[level["name"]] for level in entry["levels"][1:]]
-            entry["lod_group"] = naming.group_chain(bpy.context, base, chain).name
+        chains[base] = [source] + [bpy.data.objects[level["name"]] for level in entry["levels"][1:]]
+    if not lod_group:
+        return
+    if asset is not None and not any(armature_of(chain[0]) for chain in chains.values()):
+        levels = [[chain[k] for chain in chains.values() if len(chain) > k] for k in range(len(asset["levels"]) + 1)]
+        group = naming.group_asset(bpy.context, asset["name"], levels).name
+        asset["lod_group"] = group
+        for entry in entries:
+            entry["lod_group"] = group
+        return
+    for entry in entries:
+        entry["lod_group"] = naming.group_chain(bpy.context, entry["object"], chains[entry["object"]]).name
 
 
 def process(job: InputJob, args, console: Console, files_left_seconds: float = 0.0) -> dict:
@@ -86,7 +98,7 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         objects, skipped = sources.select_objects(scene, args.objects)
         entry["warnings"] += skipped
         entries, asset = make_lods(objects, args, console, job.label, files_left_seconds)
-        name_chains(entries, args.lod_group)
+        name_chains(entries, args.lod_group, asset)
         entry["objects"] = entries
         if asset is not None:
             entry["asset"] = asset
