@@ -4,16 +4,15 @@
 Artists ship assets (a character's body, clothes and eyes; an engine's hundred parts), and
 an engine switches an asset's levels together. So when ``asset_budget`` is on (the
 default) and a run has several objects:
-  * a chain by triangles is the asset's: each level's budget (its ratio of all the parts'
-    triangles, or its count) is spread over the parts by error, core.budget.split_by_error
-    on every part in world space; each part is then simplified to its share. A part the
-    split removes at a level leaves the asset from there on (it costs less error gone than
-    simplifying the rest further), a part it keeps whole stays whole;
+  * a chain by triangles is the asset's: each level's budget (its ratio of what all the
+    parts draw, or its count) is spread over the parts at equal error (core.budget: each
+    part's error curve from its own run, in scene units); each part is then simplified
+    to its share. A part the split keeps whole stays whole;
   * a chain by deviation or screen size is relative to the asset's bounding box, and in
     scene units, so every part is held to the same distance;
   * every part of level k gets the same switch numbers, from the largest measured
     deviation of that level over the parts, in scene units, and the asset's bounds.
-Objects sharing a mesh (LodJob's groups) are one part, placed by their first object.
+Objects sharing a mesh (LodJob's groups) are one part, counted once per object.
 """
 from __future__ import annotations
 
@@ -100,28 +99,37 @@ def mark(asset: Asset, reports: list) -> None:
                 ob[ASSET_PROP] = asset.name
 
 
-def split_options(settings: LodSettings) -> core.Options:
-    """The core options of the split run: the settings' shape controls, geometry only."""
-    return core.Options(line_weight=float(settings.line_weight), min_quality=float(settings.min_quality),
-                        feature_angle=float(settings.feature_angle) or None,
-                        remove_small_components=bool(settings.remove_small_components),
-                        boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0)
+# A part's error curve goes down to this share of the asset's smallest level ratio: a
+# part the split takes lower (a dense little bolt drawn many times) stays there. Going
+# further would cost each part a run into the low-poly end it will rarely need.
+FLOOR_SHARE = 0.5
 
 
 def split_budget(inputs: list, matrices: list, totals: list,
                  progress: Optional[Callable[[float], object]] = None) -> np.ndarray:
-    """(levels, parts) triangle counts: the asset's ``totals`` spread over the parts
-    (``inputs``: one lod.LodInput each, ``matrices`` their world matrices) by error."""
-    parts = [(in_world(i.data.vertices, m), i.data.faces) for i, m in zip(inputs, matrices)]
-    controls = []
-    for i in inputs:
-        o = i.core_options
-        keys = {"quadric_scale": o.quadric_scale, "line_weights": o.line_weights,
-                "line_scale_exponent": o.line_scale_exponent}
-        controls.append({k: v for k, v in keys.items() if v is not None} if o.quadric_scale is not None
-                        or o.line_weights is not None else None)
-    return core.budget.split_by_error(parts, totals, split_options(inputs[0].settings), controls=controls,
-                                      progress=progress)
+    """(levels, parts) triangle counts: the asset's ``totals`` (triangles drawn) spread
+    over the parts at equal error (core.budget). ``inputs``: one lod.LodInput per part
+    (a mesh); ``matrices``: per part, the world matrix of each object drawing it.
+
+    Each part's error curve comes from its own run (its options, attributes and rig),
+    in scene units through the largest scale it is drawn at; a part drawn by eight
+    objects weighs eight times in the totals."""
+    drawn = [len(i.data.faces) * len(placed) for i, placed in zip(inputs, matrices)]
+    floor_ratio = FLOOR_SHARE * totals[-1] / max(sum(drawn), 1)
+    done, whole = 0.0, float(sum(len(i.data.faces) for i in inputs))
+    curves = []
+    for i, placed in zip(inputs, matrices):
+        m = len(i.data.faces)
+
+        def step(f, done=done, m=m):
+            return progress is None or progress((done + f * m) / whole)
+
+        counts, errors = core.budget.error_curve(i.data.vertices, i.data.faces, i.core_options,
+                                                 floor=int(floor_ratio * m), progress=step)
+        scale = max(float(np.linalg.norm(matrix[:3, :3], axis=0).max()) for matrix in placed)
+        curves.append((counts, errors * scale))
+        done += m
+    return core.budget.split_by_error(curves, totals, [len(placed) for placed in matrices])
 
 
 def part_targets(counts: np.ndarray, faces: int) -> tuple:
@@ -182,3 +190,4 @@ def report(asset: Asset, reports: list, switch: Optional[dict], eps: Optional[li
     if switch is not None:
         out["switch"] = {key: value for key, value in switch.items() if key not in switch_distances.PER_LEVEL_KEYS}
     return out
+

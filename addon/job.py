@@ -91,7 +91,7 @@ class LodJob:
         if asset_set.is_asset(objects, per_object):
             self.asset = asset_set.asset_of(objects, asset_name or asset_set.default_name(objects))
         self.asset_report: Optional[dict] = None  # after commit(), for an asset
-        self._matrices = []  # per group: its first object's world matrix (asset_set.split_budget)
+        self._matrices = []  # per group: its objects' world matrices (asset_set.split_budget)
         for ob, s in zip(objects, per_object):
             key = lod.shared_mesh_key(ob, s)
             group = None
@@ -99,7 +99,7 @@ class LodJob:
                 group = next((g for other, g in shared.get(key, ()) if other == s), None)
             if group is None:
                 self.inputs.append(_prepare(context, ob, s, chain_labels, self.asset))
-                self._matrices.append(asset_set.world_matrix(ob))
+                self._matrices.append([])
                 group = len(self.groups)
                 self.groups.append([])
                 if key is not None:
@@ -107,14 +107,14 @@ class LodJob:
             else:
                 lod.check_source(ob)  # its mesh was read for the group's first object
             self.groups[group].append(ob.name)
+            self._matrices[group].append(asset_set.world_matrix(ob))
             self.objects.append(ob.name)
             self._group_of.append(group)
         # The asset's triangle count per level (a chain by triangles), split in run().
         self._asset_targets = None
         if self.asset is not None and per_object[0].deviation_chain() is None:
-            # Each mesh counted once: objects sharing one share its LODs (the report's asset
-            # entry also counts what they draw).
-            total = sum(len(i.data.faces) for i in self.inputs)
+            # What the asset draws: a mesh counts once per object using it.
+            total = sum(len(i.data.faces) * len(m) for i, m in zip(self.inputs, self._matrices))
             labels = tuple(chain_labels) or ("ratios", "triangle counts")
             try:
                 self._asset_targets = per_object[0].targets(total, *labels[:2], source="the asset")
@@ -164,9 +164,9 @@ class LodJob:
             self.outputs.append(output)
         self.fraction = 1.0
 
-    # The split runs the core once over every part, geometry only: about as long as
-    # simplifying them, which also carries attributes and measures.
-    SPLIT_SHARE = 0.3
+    # The split runs the core once per part down its error curve: about as long as
+    # simplifying the parts to their shares afterwards, which also measures.
+    SPLIT_SHARE = 0.4
 
     def _split_budget(self, progress) -> float:
         """Give every group its share of the asset's targets (asset_set.split_budget);
