@@ -44,7 +44,14 @@ LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 # The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
 SWITCH_PROP_PREFIX = "lqlod_"
 PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
-DEVIATION_SAMPLES = 50_000  # area samples per surface for the report's deviation (see measure.py)
+# Area samples per surface for the report's deviation (see measure.py): 16 a triangle, at
+# least 8,000 and at most 50,000 (report_samples). Measuring is a Python loop of BVH queries
+# (0.3 s a LOD at 50,000 a side), and an asset's hundred small parts paid it whatever their
+# size; 16 a triangle still puts several samples in every triangle of both surfaces, and
+# every vertex is queried on top.
+DEVIATION_SAMPLES = 50_000
+DEVIATION_SAMPLES_PER_TRIANGLE = 16
+DEVIATION_SAMPLES_MIN = 8_000
 # What a measured LOD's report entry takes from measure.mesh_report: distances in % of the
 # source's bounding-box diagonal, the shading normals' angle to the source's in degrees
 # (measure.normal_deviation), triangle quality.
@@ -612,9 +619,14 @@ def _fit_skin(lod_input: LodInput, result, scored: bool = False):
     return dataclasses.replace(result, vertex_attributes={**result.vertex_attributes, "skin": fitted}), gap
 
 
+def report_samples(triangles: int) -> int:
+    """Area samples the report measures a surface of ``triangles`` triangles with."""
+    return int(min(DEVIATION_SAMPLES, max(DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE * triangles)))
+
+
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:
     """The report's measurement of ``level`` against the source ``data``: mesh_report at
-    DEVIATION_SAMPLES, with the shading-normal deviation from the same closest points
+    report_samples, with the shading-normal deviation from the same closest points
     (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
     the level's report if a deviation search already made one; it gets the normal
     deviation on its own (the search measured before the LOD's normals existed)."""
@@ -624,14 +636,15 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     if normals is None or "normal_mean_degrees" in measured:
         return measured
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
-                                      n_samples=DEVIATION_SAMPLES)
+                                      n_samples=report_samples(len(data.faces)))
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 
 def _deviation_report(data, level, normals=None) -> dict:
     """measure.mesh_report of ``level`` against the source, as the report measures it
     (``normals``: (source's, level's) corner normals, for the shading deviation too)."""
-    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, n_samples=DEVIATION_SAMPLES,
+    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
+                               n_samples=(report_samples(len(data.faces)), report_samples(len(level.faces))),
                                normals=normals)
 
 

@@ -246,8 +246,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
 
     src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
     dst_*: the mesh compared with it (e.g. a LOD). vertices (n, 3) float, faces (m, 3) int.
-    Sampling density per surface: ``n_samples`` points, or ``samples_per_unit_area``
-    points per unit of its area, or by default DEFAULT_SAMPLES; vertices are always added.
+    Sampling density per surface: ``n_samples`` points (or a pair: src's, dst's), or
+    ``samples_per_unit_area`` points per unit of its area, or by default DEFAULT_SAMPLES;
+    vertices are always added.
     normals: optional (src corner normals, dst corner normals), each (m, 3, 3) per
     triangle corner of its mesh: also the shading-normal deviation (normal_deviation's
     keys), from the closest points the src->dst distances found (no queries of its own).
@@ -263,8 +264,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     t0 = time.perf_counter()
     vs, fs = _as_mesh(src_vertices, src_faces, "src")
     vd, fd = _as_mesh(dst_vertices, dst_faces, "dst")
-    n_src = _sample_count(vs, fs, samples_per_unit_area, n_samples)
-    n_dst = _sample_count(vd, fd, samples_per_unit_area, n_samples)
+    n_src_given, n_dst_given = n_samples if isinstance(n_samples, (tuple, list)) else (n_samples, n_samples)
+    n_src = _sample_count(vs, fs, samples_per_unit_area, n_src_given)
+    n_dst = _sample_count(vd, fd, samples_per_unit_area, n_dst_given)
     shading = None
     if normals is not None:
         shading = (_corner_normals(normals[0], fs, "src"), vd, fd, _corner_normals(normals[1], fd, "dst"))

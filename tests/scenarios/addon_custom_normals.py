@@ -161,7 +161,8 @@ def normal_deviations() -> dict:
 
         def against_source(normals):
             return measure.normal_deviation(source.vertices, source.faces, source.corner_normals,
-                                            lod.vertices, lod.faces, normals, n_samples=lod_module.DEVIATION_SAMPLES)
+                                            lod.vertices, lod.faces, normals,
+                                            n_samples=lod_module.report_samples(len(source.faces)))
 
         entry = {"has_custom": lod_mesh.has_custom_normals,
                  "report": [level[k] for k in ("normal_mean_degrees", "normal_p95_degrees")],
