@@ -7,7 +7,8 @@ default) and a run has several objects:
   * a chain by triangles is the asset's: each level's budget (its ratio of what all the
     parts draw, or its count) is spread over the parts at equal error (core.budget: each
     part's error curve from its own run, in scene units); each part is then simplified
-    to its share. A part the split keeps whole stays whole;
+    to its share. A part the split keeps whole stays whole; with remove_small_components
+    a part leaves the asset once a level's error is larger than the part itself;
   * a chain by deviation or screen size is relative to the asset's bounding box, and in
     scene units, so every part is held to the same distance;
   * every part of level k gets the same switch numbers, from the largest measured
@@ -127,7 +128,13 @@ def split_budget(inputs: list, matrices: list, totals: list,
         counts, errors = core.budget.error_curve(i.data.vertices, i.data.faces, i.core_options,
                                                  floor=int(floor_ratio * m), progress=step)
         scale = max(float(np.linalg.norm(matrix[:3, :3], axis=0).max()) for matrix in placed)
-        curves.append((counts, errors * scale))
+        curve = (counts, errors * scale)
+        if i.settings.remove_small_components:
+            # Gone, a part is as far from the LOD as its surface is from the rest: within
+            # its own size where it sits on the asset (a bolt on its hull).
+            curve = core.budget.with_removal(curve, switch_distances.mesh_bounds(i.data.vertices, i.data.faces)
+                                             .diagonal * scale)
+        curves.append(curve)
         done += m
     return core.budget.split_by_error(curves, totals, [len(placed) for placed in matrices])
 

@@ -12,7 +12,8 @@ distance of an accepted collapse, core.SimplifyStats.max_error, Garland & Heckbe
 with the part's own attributes, seams and features holding it back). For each level one
 error eps is then found, by bisection, at which the parts' counts add up to the level's
 budget (:func:`split_by_error`), every part weighted by how many times the asset draws
-it. Equal error is what minimises the largest error (the asset's Hausdorff distance is
+it. A part may also leave the asset (:func:`with_removal`) once the level's error is
+larger than what its removal costs, as game LOD tools drop bolts from far LODs. Equal error is what minimises the largest error (the asset's Hausdorff distance is
 the largest of its parts') for a given total. Measured on the shared assets
 (bench/assets.py), this split beat both one merged geometry-only run, whose order did
 not see the parts' custom normals and seams (2.5x the Hausdorff distance on a CAD
@@ -52,6 +53,17 @@ def error_curve(vertices, faces, options: Optional[Options] = None, *, floor: in
     return counts, errors
 
 
+def with_removal(curve: tuple, error: float) -> tuple:
+    """``curve`` with the part's removal as its last step: at ``error`` (what leaving the
+    asset costs, in the curve's unit) its count drops from the last rung's to 0. Unchanged
+    when the curve already reaches that error (removing it would cost no less)."""
+    counts, errors = curve
+    if not error > errors[-1] or counts[-1] == 0:
+        return curve
+    step = np.nextafter(error, 0.0) if np.nextafter(error, 0.0) > errors[-1] else error
+    return (np.concatenate([counts, [counts[-1], 0.0]]), np.concatenate([errors, [step, error]]))
+
+
 def count_at(curve: tuple, eps: float) -> float:
     """A part's triangle count at error ``eps``: linear between the rungs around it (the
     last rung's count beyond the curve)."""
@@ -73,7 +85,7 @@ def split_by_error(curves: Sequence[tuple], targets: Sequence[int], weights: Opt
     targets: the asset's triangle count per level (what it draws), non-increasing.
     weights: per part how many times the asset draws it (default 1).
     Returns (levels, parts) int64, each column non-increasing and at most the part's own
-    count. A level the curves cannot reach (below every part's last rung) gets the last
+    count; 0 for a part whose curve ends in its removal (with_removal) past that error. A level the curves cannot reach (below every part's last rung) gets the last
     rungs. Where many collapses cost the same (flat regions: 0), the parts at that error
     share what the target leaves in proportion to what they could still give.
     """
@@ -94,6 +106,11 @@ def split_by_error(curves: Sequence[tuple], targets: Sequence[int], weights: Opt
         below = np.array([count_at(c, hi) for c in curves])
         jump = float(np.dot(w, above - below))
         f = 0.0 if jump <= 0 else min(max((target - float(np.dot(w, below))) / jump, 0.0), 1.0)
-        out.append(np.rint(below + f * (above - below)))
+        level = below + f * (above - below)
+        # A part leaving (with_removal) leaves whole: between its last rung and 0, the nearer.
+        for p, (counts, _) in enumerate(curves):
+            if counts[-1] == 0 and len(counts) > 1 and 0 < level[p] < counts[-2]:
+                level[p] = counts[-2] if level[p] >= counts[-2] / 2 else 0.0
+        out.append(np.rint(level))
     counts = np.asarray(out, dtype=np.int64).reshape(len(out), len(curves))
     return np.minimum.accumulate(counts, axis=0)

@@ -118,3 +118,19 @@ def test_any_split_is_a_split(sizes, ratio):
     counts = budget.split_by_error(curves, [target])
     assert abs(int(counts.sum()) - target) <= len(parts)
     assert np.all(counts >= 0) and np.all(counts[0] <= np.array([len(f) for _, f in parts]))
+
+
+def test_a_part_leaves_once_the_error_is_past_its_removal():
+    """with_removal: a tiny part leaves whole (never a sliver of it) once the level's error
+    is beyond what removing it costs, and stays before."""
+    large = _moved(build.icosphere(4), 2.0)
+    tiny = _moved(build.icosphere(2), 0.02, (2.05, 0, 0))
+    curves = [_curve(large), budget.with_removal(_curve(tiny), 0.04)]
+    m = len(large[1]) + len(tiny[1])
+    counts = budget.split_by_error(curves, [m // 2, 40])
+    assert counts[0, 1] > 0 and counts[1, 1] == 0, counts
+    assert abs(int(counts[1].sum()) - 40) <= 2
+    for n in counts[:, 1]:  # whole or gone, never part of its last rung
+        assert n == 0 or n >= curves[1][0][-3]
+    same = budget.with_removal(curves[0], 0.0)  # no cheaper than its curve: unchanged
+    assert same is curves[0]

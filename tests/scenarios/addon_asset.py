@@ -83,4 +83,6 @@ def run() -> dict:
         "deviation_per_part": run_job(max_deviations=((1.0, True), (4.0, True)), asset_budget=False,
                                       measure_deviation=False),
         "too_small": run_job(triangle_counts=(10_000,)),
+        "far": run_job(ratios=(0.5, 0.05, 0.015), measure_deviation=False),
+        "far_kept": run_job(ratios=(0.5, 0.05, 0.015), measure_deviation=False, remove_small_components=False),
     }
