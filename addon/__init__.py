@@ -10,6 +10,10 @@ Modules (one idea each):
                     the command line's options; LodError, LodCancelled (no bpy)
     importance      what the Importance settings mean as core parameters
     lod             generate_lods(): read, simplify, write, link (no UI)
+    deviation_search  LOD levels by measured deviation: the core's tracked bound, the lean
+                    run, then the ladder of rungs refined between rungs
+    skin_fit        LOD skin weights fitted to the rig's sample poses; coarse levels checked
+                    against a run without the poses
     job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)
     lod_group       the chain named for game engines: source "<name>_LOD0", the Unreal LOD group
     props           the settings as Blender properties (operator and scene share them)

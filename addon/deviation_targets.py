@@ -33,7 +33,7 @@ LADDER_STEP = 0.85  # each rung keeps this share of the rung above's triangles
 LADDER_FLOOR = 4  # no rung below this many triangles (a tetrahedron)
 FIRST_RUNGS = (0.99, 0.97, 0.94, 0.9)  # shares of the source's triangles above the first step
 # A level kept at less than this share of its bound is refined between its rung and the
-# next (a second run; see lod._refine): the "within a factor 2" of the request.
+# next (a second run; see deviation_search._refine): the "within a factor 2" of the request.
 REFINE_BELOW = 0.5
 REFINE_STEPS = 8  # counts tried between two rungs
 # The first bound given to the core, as a share of the requested deviation: the sampled

@@ -28,14 +28,21 @@ import bpy
 from ._core import core
 from . import asset as asset_set
 from . import bake
+from . import deviation_search
 from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
 from . import measure
 from . import mesh_io
+from . import skin_fit
 from . import switch_distances
 from . import vertex_groups
+# The report's sample counts live with the deviation search, which measures as the report
+# does, and CHECK_POSES with the skin fit; callers still name them lod.<name>.
+from .deviation_search import DEVIATION_SAMPLES, DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE  # noqa: F401
+from .deviation_search import report_samples
 from .settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
+from .skin_fit import CHECK_POSES
 
 SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
 LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
@@ -44,14 +51,6 @@ LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 # The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
 SWITCH_PROP_PREFIX = "lqlod_"
 PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
-# Area samples per surface for the report's deviation (see measure.py): 16 a triangle, at
-# least 8,000 and at most 50,000 (report_samples). Measuring is a Python loop of BVH queries
-# (0.3 s a LOD at 50,000 a side), and an asset's hundred small parts paid it whatever their
-# size; 16 a triangle still puts several samples in every triangle of both surfaces, and
-# every vertex is queried on top.
-DEVIATION_SAMPLES = 50_000
-DEVIATION_SAMPLES_PER_TRIANGLE = 16
-DEVIATION_SAMPLES_MIN = 8_000
 # What a measured LOD's report entry takes from measure.mesh_report: distances in % of the
 # source's bounding-box diagonal, the shading normals' angle to the source's in degrees
 # (measure.normal_deviation), triangle quality.
@@ -82,11 +81,12 @@ class LodInput:
     # in the order of names["skin"] (core.skinning): the LODs' weights are fitted to them.
     poses: Optional[np.ndarray] = None
     # and further random poses, never fitted to, that coarse levels are checked in
-    # (_skinned_levels)
+    # (skin_fit.skinned_levels)
     check_poses: Optional[np.ndarray] = None
     # A chain by deviation: each LOD's largest allowed measured distance, in the object's
     # own (local) units, like the mesh data;
-    # ``targets`` are then the rungs the search measures (addon/deviation_targets.py).
+    # ``targets`` are then the rungs the search measures (addon/deviation_search.py,
+    # addon/deviation_targets.py).
     deviations: Optional[list] = None
     # A part of an asset (addon/asset.py): its targets are the asset budget's share
     # (set by LodJob before compute; [] when the split removes it at LOD1), deviations are
@@ -503,7 +503,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     if lod_input.in_asset and not lod_input.targets and lod_input.deviations is not None:
         # A part too small to search (addon/asset.py): whole at every level of the asset.
         measured = {}
-        whole = _whole(lod_input, simplify, measured)
+        whole = deviation_search.whole(lod_input, simplify, measured)
         results, requested = [whole] * len(lod_input.deviations), list(lod_input.deviations)
         lod_input.targets = [len(data.faces)] * len(results)
         lod_input.warnings.append(f"too small ({len(data.faces)} triangles) for a LOD by deviation: "
@@ -511,7 +511,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     elif lod_input.in_asset and not lod_input.targets:
         results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
     elif lod_input.deviations is not None:
-        results, requested, measured = _by_deviation(lod_input, simplify, report_progress, simplify_share)
+        results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
+                                                                     simplify_share, _simplify)
     else:
         results = simplify(lod_input.targets)
         requested = [None] * len(results)
@@ -521,8 +522,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     if lod_input.deviations is not None:
         diagonal = lod_input.reference_diagonal or measure.bbox_diagonal(data.vertices, data.faces)
     if lod_input.poses is not None:
-        results = _skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
-                                  lambda: report_progress(simplify_share))
+        results = skin_fit.skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
+                                          lambda: report_progress(simplify_share))
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
         if k > 1 and result is results[k - 2]:  # a level repeated (an asset's part): one mesh
@@ -564,66 +565,6 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
 
 
-# Source points the weights are fitted at: 20,000, or 4 per LOD triangle on larger LODs so
-# every triangle gets some (a triangle without any leaves its corners' weights as they were).
-SKIN_FIT_SAMPLES = 20_000
-SKIN_FIT_SAMPLES_PER_TRIANGLE = 4
-
-
-# Levels with fewer triangles than this per deform bone are checked against the same level
-# made without the poses in the error (_skinned_levels). Down there a LOD cannot spend
-# triangles on every joint, and the poses gave a coin toss: the Fox at 144 triangles (6 a
-# bone) 0.80-1.10x of no importance's posed distance over six sample seeds, a humanoid at
-# 150 (8 a bone) 0.99-1.15x, where the fitted weights alone gave 0.92-0.97x. At 32 a
-# bone and above (the Fox's and the humanoid's other rows) the poses won on every seed.
-COARSE_TRIANGLES_PER_BONE = 40
-CHECK_POSES = 16
-
-
-def _skinned_levels(lod_input: LodInput, results: list, simplify, may_remake: bool, tick) -> list:
-    """The levels with their skin weights fitted to the sample poses (_fit_skin). A coarse
-    level (COARSE_TRIANGLES_PER_BONE) is also made without the poses in the error and
-    fitted, and of the two the one that follows the source closer in the check poses is
-    kept (``may_remake``: not for a chain by deviation, whose levels were measured).
-    ``tick()`` before each level's fit lets Esc in between."""
-    bones = max(len(lod_input.names["skin"]), 1)
-    coarse = [may_remake and len(r.faces) < COARSE_TRIANGLES_PER_BONE * bones for r in results]
-    plain = iter(simplify([t for t, c in zip(lod_input.targets, coarse) if c], pose_offsets=None, pose_weight=0.0)
-                 if any(coarse) else [])
-    out = []
-    for result, check in zip(results, coarse):
-        tick()
-        fitted, gap = _fit_skin(lod_input, result, scored=check)
-        if check:
-            other, other_gap = _fit_skin(lod_input, next(plain), scored=True)
-            if other_gap < gap and len(other.faces) == len(fitted.faces):
-                fitted = other
-        out.append(fitted)
-    return out
-
-
-def _fit_skin(lod_input: LodInput, result, scored: bool = False):
-    """(the LOD with its skin weights fitted to the rig's sample poses
-    (core.skinning.fit_weights), and, if ``scored``, how far it lies from the source in
-    the check poses: the mean distance between source points and the LOD points they were
-    matched to at rest, both posed, over the check poses; else None)."""
-    data = lod_input.data
-    skin = data.group_weights[:, lod_input.names["skin"]]
-    count = max(SKIN_FIT_SAMPLES, SKIN_FIT_SAMPLES_PER_TRIANGLE * len(result.faces))
-    points, weights = core.skinning.surface_samples(data.vertices, data.faces, skin, count)
-    tri, bary = measure.closest_points(result.vertices, result.faces, points)
-    fitted = core.skinning.fit_weights(result.vertices, result.faces, result.vertex_attributes["skin"],
-                                       points, weights, tri, bary, lod_input.poses)
-    gap = core.skinning.posed_gap(result.vertices, result.faces, fitted, points, weights, tri, bary,
-                                  lod_input.check_poses) if scored else None
-    return dataclasses.replace(result, vertex_attributes={**result.vertex_attributes, "skin": fitted}), gap
-
-
-def report_samples(triangles: int) -> int:
-    """Area samples the report measures a surface of ``triangles`` triangles with."""
-    return int(min(DEVIATION_SAMPLES, max(DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE * triangles)))
-
-
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:
     """The report's measurement of ``level`` against the source ``data``: mesh_report at
     report_samples, with the shading-normal deviation from the same closest points
@@ -632,39 +573,12 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     deviation on its own (the search measured before the LOD's normals existed)."""
     normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
     if measured is None:
-        return _deviation_report(data, level, normals)
+        return deviation_search.deviation_report(data, level, normals)
     if normals is None or "normal_mean_degrees" in measured:
         return measured
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
                                       n_samples=report_samples(len(data.faces)))
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
-
-
-def _deviation_report(data, level, normals=None) -> dict:
-    """measure.mesh_report of ``level`` against the source, as the report measures it
-    (``normals``: (source's, level's) corner normals, for the shading deviation too)."""
-    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
-                               n_samples=(report_samples(len(data.faces)), report_samples(len(level.faces))),
-                               normals=normals)
-
-
-def _measurers(data, levels: list, tick) -> tuple:
-    """(quick(i), exact(i), reports): level i's two-sided Hausdorff distance to the source,
-    estimated with fewer samples or measured as the report measures it (its full report
-    kept in ``reports[i]``); ``tick()`` before each lets Esc in between the measurements."""
-    reports = {}
-
-    def quick(i):
-        tick()
-        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
-                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
-
-    def exact(i):
-        tick()
-        reports[i] = _deviation_report(data, levels[i])
-        return reports[i]["hausdorff"]
-
-    return quick, exact, reports
 
 
 def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
@@ -680,106 +594,7 @@ def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
         raise LodError(f'"{lod_input.source_name}": {ex}') from ex
 
 
-def _by_deviation(lod_input: LodInput, simplify, report_progress, simplify_share) -> tuple:
-    """(the levels kept, each one's requested deviation, their measurements by id).
-
-    First the core's tracked distance bound (deviation_targets.by_tracked_bounds), with
-    the artist's controls and lean (the fewer triangles win, deviation_targets.LEAN_*); for
-    a deviation it does not meet, the ladder: per requested deviation the coarsest rung
-    measured within it (deviation_targets.choose_levels), refined between rungs. A
-    deviation neither meets is left out with a warning, and none met is a LodError."""
-    data = lod_input.data
-    measured = {}
-
-    def exact(level):
-        report_progress(simplify_share)
-        measured[id(level)] = _deviation_report(data, level)
-        return measured[id(level)]["hausdorff"]
-
-    found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
-    options = lod_input.core_options
-    if options.line_weights is None and options.pose_offsets is None:
-        # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
-        lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
-                "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
-        found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean), exact))
-    if any(f.level is None for f in found):
-        ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share)
-        for f in found:
-            other = ladder.get(f.deviation)
-            if other is not None and (f.level is None or len(other[0].faces) < len(f.level.faces)):
-                f.level = other[0]
-                measured[id(other[0])] = other[1]
-        deviation_targets.coarser_each(found)
-    kept = [f for f in found if f.level is not None]
-    for f in found:
-        if f.level is None and lod_input.in_asset:
-            k = found.index(f) + 1
-            lod_input.warnings.append(
-                f"LOD{k} repeats " + (f"LOD{k - 1}" if k > 1 else "the whole part")
-                + f": nothing coarser is within the asset's deviation {f.deviation:.4g} (the object's units)")
-        elif f.level is None:
-            lod_input.warnings.append(
-                f"no LOD within {f.deviation:.4g} (the object's units): no level coarser than the "
-                f"one before is measured within it")
-    if lod_input.in_asset and len(kept) < len(found):
-        # A part of an asset is in every level: where nothing coarser is within the bound,
-        # the level before repeats (at LOD1, the whole part).
-        previous = None
-        for f in found:
-            if f.level is None:
-                f.level = previous or _whole(lod_input, simplify, measured)
-            previous = f.level
-        kept = found
-    if not kept:
-        raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
-                       f"{found[0].deviation:.4g}: ask for a larger one")
-    lod_input.targets = [len(f.level.faces) for f in kept]
-    return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
-
-
-def _whole(lod_input: LodInput, simplify, measured: dict):
-    """The part itself as a level (a run to its own triangle count), measured: 0 apart."""
-    whole = simplify([len(lod_input.data.faces)])[0]
-    measured[id(whole)] = _deviation_report(lod_input.data, whole)
-    return whole
-
-
-def _by_ladder(lod_input: LodInput, rungs: list, report_progress, simplify_share) -> dict:
-    """{deviation: (level, its report)} for the requested deviations some rung of the
-    ladder meets: the coarsest rung measured within it, refined between rungs where
-    it is under half the deviation (_refine)."""
-    quick, exact, reports = _measurers(lod_input.data, rungs, lambda: report_progress(simplify_share))
-    choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
-    chosen = {}
-    for c in choices:
-        if c.level is None:
-            continue
-        level, report = rungs[c.level], reports[c.level]
-        if c.hausdorff < deviation_targets.REFINE_BELOW * c.deviation and c.level + 1 < len(rungs):
-            level, report = _refine(lod_input, level, report, rungs[c.level + 1], c.deviation, report_progress,
-                                    simplify_share)
-        chosen[c.deviation] = (level, report)
-    return chosen
-
-
-def _refine(lod_input: LodInput, within, within_report, beyond, deviation, report_progress, simplify_share):
-    """Between two adjacent rungs, ``within`` the bound at far less than it and ``beyond``
-    it (a low-poly mesh, where one rung removes a large step of error): a second run
-    snapshots counts between them and the coarsest measured within the bound is kept
-    (else ``within``). Returns (level, its report)."""
-    data = lod_input.data
-    counts = deviation_targets.between(len(within.faces), len(beyond.faces))
-    if not counts:
-        return within, within_report
-    levels = _simplify(lod_input, counts, lambda f: report_progress(simplify_share) is None)
-    quick, exact, reports = _measurers(data, levels, lambda: report_progress(simplify_share))
-    choice = deviation_targets.Search(quick, exact).coarsest_within(deviation, len(levels))
-    if choice.level is None:
-        return within, within_report
-    return levels[choice.level], reports[choice.level]
+_fit_skin = skin_fit.fit_skin  # (kept here too: bench/skinned_ablation.py names it lod._fit_skin)
 
 
 # ----------------------------------------------------------------------------- commit

@@ -42,7 +42,7 @@ def run() -> dict:
 
     lods = {}
     # 5 %, and a coarse 0.6 % (15 triangles a bone, where Source Armature checks the
-    # level against one made without the poses: addon/lod.py, _skinned_levels).
+    # level against one made without the poses: addon/skin_fit.py, skinned_levels).
     for source, ratio, key in (('NONE', 0.05, 'NONE'), ('ARMATURE', 0.05, 'ARMATURE'),
                                ('ARMATURE_PAPER', 0.05, 'ARMATURE_PAPER'),
                                ('NONE', 0.006, 'NONE_COARSE'), ('ARMATURE', 0.006, 'ARMATURE_COARSE')):

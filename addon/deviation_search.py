@@ -1,0 +1,168 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""LOD levels chosen by measured deviation: for each requested deviation, the fewest
+triangles whose measured distance to the source stays within it.
+
+The core's tracked distance bound first (deviation_targets.by_tracked_bounds), with the
+artist's controls and then the lean run (fewer triangles at the same distance); for a
+deviation neither meets, the ladder of rungs (deviation_targets.choose_levels), the
+coarsest rung measured within it refined between rungs (a second run). Every level kept
+is measured as the report measures it (``deviation_report``, at ``report_samples``), so
+its reported number is the one the search compared with the bound.
+
+lod.compute() calls in here with the run's lod.LodInput and its ways of running the
+core; this module does not import lod.py (which imports it).
+"""
+from __future__ import annotations
+
+from . import deviation_targets
+from . import measure
+from .settings import LodError
+
+# Area samples per surface for the report's deviation (see measure.py): 16 a triangle, at
+# least 8,000 and at most 50,000 (report_samples). Measuring is a Python loop of BVH queries
+# (0.3 s a LOD at 50,000 a side), and an asset's hundred small parts paid it whatever their
+# size; 16 a triangle still puts several samples in every triangle of both surfaces, and
+# every vertex is queried on top.
+DEVIATION_SAMPLES = 50_000
+DEVIATION_SAMPLES_PER_TRIANGLE = 16
+DEVIATION_SAMPLES_MIN = 8_000
+
+
+def report_samples(triangles: int) -> int:
+    """Area samples the report measures a surface of ``triangles`` triangles with."""
+    return int(min(DEVIATION_SAMPLES, max(DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE * triangles)))
+
+
+def deviation_report(data, level, normals=None) -> dict:
+    """measure.mesh_report of ``level`` against the source, as the report measures it
+    (``normals``: (source's, level's) corner normals, for the shading deviation too)."""
+    return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
+                               n_samples=(report_samples(len(data.faces)), report_samples(len(level.faces))),
+                               normals=normals)
+
+
+def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_with_progress) -> tuple:
+    """(the levels kept, each one's requested deviation, their measurements by id).
+
+    First the core's tracked distance bound (deviation_targets.by_tracked_bounds), with
+    the artist's controls and lean (the fewer triangles win, deviation_targets.LEAN_*); for
+    a deviation it does not meet, the ladder: per requested deviation the coarsest rung
+    measured within it (deviation_targets.choose_levels), refined between rungs. A
+    deviation neither meets is left out with a warning, and none met is a LodError.
+
+    ``simplify(targets, **options)``: the core run on ``lod_input`` (lod.compute's, which
+    moves the progress bar); ``simplify_with_progress(lod_input, targets, progress)``:
+    the same with a progress callback of its own (lod._simplify; the refinement's run)."""
+    data = lod_input.data
+    measured = {}
+
+    def exact(level):
+        report_progress(simplify_share)
+        measured[id(level)] = deviation_report(data, level)
+        return measured[id(level)]["hausdorff"]
+
+    found = deviation_targets.by_tracked_bounds(
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
+    options = lod_input.core_options
+    if options.line_weights is None and options.pose_offsets is None:
+        # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
+        lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
+                "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
+        found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
+            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean), exact))
+    if any(f.level is None for f in found):
+        ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
+                            simplify_with_progress)
+        for f in found:
+            other = ladder.get(f.deviation)
+            if other is not None and (f.level is None or len(other[0].faces) < len(f.level.faces)):
+                f.level = other[0]
+                measured[id(other[0])] = other[1]
+        deviation_targets.coarser_each(found)
+    kept = [f for f in found if f.level is not None]
+    for f in found:
+        if f.level is None and lod_input.in_asset:
+            k = found.index(f) + 1
+            lod_input.warnings.append(
+                f"LOD{k} repeats " + (f"LOD{k - 1}" if k > 1 else "the whole part")
+                + f": nothing coarser is within the asset's deviation {f.deviation:.4g} (the object's units)")
+        elif f.level is None:
+            lod_input.warnings.append(
+                f"no LOD within {f.deviation:.4g} (the object's units): no level coarser than the "
+                f"one before is measured within it")
+    if lod_input.in_asset and len(kept) < len(found):
+        # A part of an asset is in every level: where nothing coarser is within the bound,
+        # the level before repeats (at LOD1, the whole part).
+        previous = None
+        for f in found:
+            if f.level is None:
+                f.level = previous or whole(lod_input, simplify, measured)
+            previous = f.level
+        kept = found
+    if not kept:
+        raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
+                       f"{found[0].deviation:.4g}: ask for a larger one")
+    lod_input.targets = [len(f.level.faces) for f in kept]
+    return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
+
+
+def whole(lod_input, simplify, measured: dict):
+    """The part itself as a level (a run to its own triangle count), measured: 0 apart."""
+    level = simplify([len(lod_input.data.faces)])[0]
+    measured[id(level)] = deviation_report(lod_input.data, level)
+    return level
+
+
+def _by_ladder(lod_input, rungs: list, report_progress, simplify_share, simplify_with_progress) -> dict:
+    """{deviation: (level, its report)} for the requested deviations some rung of the
+    ladder meets: the coarsest rung measured within it, refined between rungs where
+    it is under half the deviation (_refine)."""
+    quick, exact, reports = _measurers(lod_input.data, rungs, lambda: report_progress(simplify_share))
+    choices = deviation_targets.choose_levels(lod_input.deviations, len(rungs), quick, exact)
+    chosen = {}
+    for c in choices:
+        if c.level is None:
+            continue
+        level, report = rungs[c.level], reports[c.level]
+        if c.hausdorff < deviation_targets.REFINE_BELOW * c.deviation and c.level + 1 < len(rungs):
+            level, report = _refine(lod_input, level, report, rungs[c.level + 1], c.deviation, report_progress,
+                                    simplify_share, simplify_with_progress)
+        chosen[c.deviation] = (level, report)
+    return chosen
+
+
+def _refine(lod_input, within, within_report, beyond, deviation, report_progress, simplify_share,
+            simplify_with_progress):
+    """Between two adjacent rungs, ``within`` the bound at far less than it and ``beyond``
+    it (a low-poly mesh, where one rung removes a large step of error): a second run
+    snapshots counts between them and the coarsest measured within the bound is kept
+    (else ``within``). Returns (level, its report)."""
+    data = lod_input.data
+    counts = deviation_targets.between(len(within.faces), len(beyond.faces))
+    if not counts:
+        return within, within_report
+    levels = simplify_with_progress(lod_input, counts, lambda f: report_progress(simplify_share) is None)
+    quick, exact, reports = _measurers(data, levels, lambda: report_progress(simplify_share))
+    choice = deviation_targets.Search(quick, exact).coarsest_within(deviation, len(levels))
+    if choice.level is None:
+        return within, within_report
+    return levels[choice.level], reports[choice.level]
+
+
+def _measurers(data, levels: list, tick) -> tuple:
+    """(quick(i), exact(i), reports): level i's two-sided Hausdorff distance to the source,
+    estimated with fewer samples or measured as the report measures it (its full report
+    kept in ``reports[i]``); ``tick()`` before each lets Esc in between the measurements."""
+    reports = {}
+
+    def quick(i):
+        tick()
+        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
+                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+
+    def exact(i):
+        tick()
+        reports[i] = deviation_report(data, levels[i])
+        return reports[i]["hausdorff"]
+
+    return quick, exact, reports
