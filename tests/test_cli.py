@@ -129,7 +129,8 @@ def test_lod_chains_in_every_output(batches, reimported):
             source = sum(obj["levels"][0]["triangles"] for obj in entry["objects"])
             for k, ratio in enumerate(RATIOS, start=1):
                 targets = sum(obj["levels"][k]["target"] for obj in entry["objects"])
-                assert abs(targets - round(float(ratio) * source)) <= 1, (k, targets)
+                # (each part's share rounded: within a triangle a part)
+                assert abs(targets - round(float(ratio) * source)) <= len(entry["objects"]), (k, targets)
                 assert asset["levels"][k - 1]["triangles"] == sum(obj["levels"][k]["triangles"]
                                                                    for obj in entry["objects"])
         for obj in entry["objects"]:

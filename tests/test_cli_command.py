@@ -53,7 +53,8 @@ def test_open_file_to_gltf(result):
     meshes = result["gltf_meshes"]
     assert sorted(meshes) == ["Rock_LOD0", "Rock_LOD1", "Slab_LOD0", "Slab_LOD1"]
     # One asset (asset_budget): LOD1 is half of Rock's and Slab's triangles together, split by error.
-    assert abs(meshes["Rock_LOD1"]["triangles"] + meshes["Slab_LOD1"]["triangles"] - 1120) <= 1, meshes
+    # (Within a triangle a part: each part's share is rounded, a closed part's count is even.)
+    assert abs(meshes["Rock_LOD1"]["triangles"] + meshes["Slab_LOD1"]["triangles"] - 1120) <= 2, meshes
     assert "[scene.blend] Slab: LOD1 simplified" in run["stderr"], run["stderr"]  # progress without --quiet
     assert 'note: scene.blend: Rock: no importance (no vertex group "Detail")' in run["stdout"], run["stdout"]
 
@@ -107,6 +108,6 @@ def test_rerun_on_its_own_output_replaces_the_lods(result):
     meshes = result["rerun_meshes"]
     assert [meshes["Rock_LOD0"]["triangles"], meshes["Slab_LOD0"]["triangles"]] == [1280, 960], meshes
     # A quarter of the asset's 2,240 triangles (asset_budget), split by error.
-    assert abs(meshes["Rock_LOD1"]["triangles"] + meshes["Slab_LOD1"]["triangles"] - 560) <= 1, meshes
+    assert abs(meshes["Rock_LOD1"]["triangles"] + meshes["Slab_LOD1"]["triangles"] - 560) <= 2, meshes
     assert meshes["Rock_LOD1"]["parent"] == "good_LOD1", meshes["Rock_LOD1"]
     assert meshes["Slab_LOD0"]["parent"] == "good_LOD0", meshes["Slab_LOD0"]
