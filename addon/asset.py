@@ -60,8 +60,15 @@ def world_matrix(ob) -> np.ndarray:
     return np.array([list(row) for row in ob.matrix_world], dtype=np.float64)
 
 
+def matrix_scale(matrix: np.ndarray) -> float:
+    """The largest axis scale of a (4, 4) matrix (what local units are multiplied by:
+    conservative when the scale is not uniform)."""
+    return float(np.linalg.norm(matrix[:3, :3], axis=0).max())
+
+
 def world_scale(ob) -> float:
-    """The largest axis scale of ``ob``'s world matrix (what its own units are multiplied by)."""
+    """The largest axis scale of ``ob``'s world matrix, as Blender computes it (the
+    switch numbers of a single object have always used this)."""
     return max(abs(c) for c in ob.matrix_world.to_scale())
 
 
@@ -127,7 +134,7 @@ def split_budget(inputs: list, matrices: list, totals: list,
 
         counts, errors = core.budget.error_curve(i.data.vertices, i.data.faces, i.core_options,
                                                  floor=int(floor_ratio * m), progress=step)
-        scale = max(float(np.linalg.norm(matrix[:3, :3], axis=0).max()) for matrix in placed)
+        scale = max(matrix_scale(matrix) for matrix in placed)
         curve = (counts, errors * scale)
         if i.settings.remove_small_components:
             # Gone, a part is as far from the LOD as its surface is from the rest: within
@@ -159,8 +166,11 @@ def level_deviations(chains: list) -> Optional[list]:
     the largest over the parts that have it. ``chains``: (lod.LodOutput, world scale) per
     object. None when a level was not measured."""
     eps = [0.0]
+    diagonals = {}  # id(output) -> its source's diagonal (objects sharing a mesh share it)
     for out, scale in chains:
-        diagonal = switch_distances.mesh_bounds(out.input.data.vertices, out.input.data.faces).diagonal
+        if id(out) not in diagonals:
+            diagonals[id(out)] = switch_distances.mesh_bounds(out.input.data.vertices, out.input.data.faces).diagonal
+        diagonal = diagonals[id(out)]
         for k, entry in enumerate(out.reports, start=1):
             if "hausdorff_percent" not in entry:
                 return None
