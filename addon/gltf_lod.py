@@ -151,54 +151,28 @@ class glTF2ExportUserExtension:
 
 def _local_matrix(node) -> np.ndarray:
     """A glTF node's transform as a 4x4 matrix (its matrix, or T * R * S)."""
+    from mathutils import Matrix, Quaternion, Vector
+
     if node.matrix:  # (the exporter leaves [] or None for none)
         return np.array(node.matrix, dtype=np.float64).reshape(4, 4).T  # column-major
-    out = np.eye(4)
-    if node.scale:
-        out = np.diag([*node.scale, 1.0]) @ out
-    if node.rotation:
-        x, y, z, w = node.rotation
-        r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-        rot = np.eye(4)
-        rot[:3, :3] = r
-        out = rot @ out
-    if node.translation:
-        move = np.eye(4)
-        move[:3, 3] = node.translation
-        out = move @ out
-    return out
+    x, y, z, w = node.rotation or (0.0, 0.0, 0.0, 1.0)  # glTF quaternions are x, y, z, w
+    trs = Matrix.LocRotScale(Vector(node.translation or (0.0, 0.0, 0.0)), Quaternion((w, x, y, z)),
+                             Vector(node.scale or (1.0, 1.0, 1.0)))
+    return np.array(trs, dtype=np.float64)
 
 
 def _set_transform(node, matrix: np.ndarray) -> None:
     """Give ``node`` the 4x4 ``matrix``: as translation, rotation and scale when it is one
-    (no shear), else as its matrix."""
-    linear = matrix[:3, :3]
-    scale = np.linalg.norm(linear, axis=0)
-    if np.all(scale > 1e-12):
-        if np.linalg.det(linear) < 0:
-            scale[0] = -scale[0]
-        r = linear / scale
-        w = np.sqrt(max(0.0, 1.0 + np.trace(r))) / 2.0
-        if w > 1e-6:
-            q = np.array([(r[2, 1] - r[1, 2]) / (4 * w), (r[0, 2] - r[2, 0]) / (4 * w),
-                          (r[1, 0] - r[0, 1]) / (4 * w), w])
-        else:  # a half turn: from the largest diagonal entry
-            i = int(np.argmax(np.diag(r)))
-            j, k = (i + 1) % 3, (i + 2) % 3
-            q = np.zeros(4)
-            q[i] = np.sqrt(max(0.0, 1.0 + r[i, i] - r[j, j] - r[k, k])) / 2.0
-            q[j] = (r[j, i] + r[i, j]) / (4 * q[i])
-            q[k] = (r[k, i] + r[i, k]) / (4 * q[i])
-            q[3] = (r[k, j] - r[j, k]) / (4 * q[i])
-        q /= np.linalg.norm(q)
-        node.matrix = None
-        node.translation = [float(v) for v in matrix[:3, 3]] if np.any(matrix[:3, 3] != 0) else None
-        node.rotation = [float(v) for v in q] if not np.allclose(q, [0, 0, 0, 1]) else None
-        node.scale = [float(v) for v in scale] if not np.allclose(scale, 1.0) else None
-        if np.allclose(_local_matrix(node), matrix, atol=1e-6 * max(1.0, np.abs(matrix).max())):
-            return
+    (no shear: Blender's decomposition gives it back), else as its matrix."""
+    from mathutils import Matrix
+
+    location, rotation, scale = Matrix([list(row) for row in matrix]).decompose()
+    node.matrix = None
+    node.translation = list(location) if location.length > 0 else None
+    node.rotation = [rotation.x, rotation.y, rotation.z, rotation.w] if rotation.angle > 1e-9 else None
+    node.scale = list(scale) if any(abs(c - 1.0) > 1e-9 for c in scale) else None
+    if np.allclose(_local_matrix(node), matrix, atol=1e-5 * max(1.0, np.abs(matrix).max())):
+        return
     node.translation = node.rotation = node.scale = None
     node.matrix = [float(v) for v in matrix.T.reshape(-1)]
 
