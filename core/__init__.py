@@ -22,6 +22,7 @@ Public API:
         and the geometry of comparing two meshes' shading normals
 """
 from .result import (
+    STOP_LIMIT,
     STOP_MAX_ERROR,
     STOP_REASON_TEXT,
     STOP_TARGET,
@@ -49,6 +50,7 @@ __all__ = [
     "SimplifyStats",
     "SimplifyCancelled",
     "STOP_TARGET",
+    "STOP_LIMIT",
     "STOP_MAX_ERROR",
     "STOP_TOPOLOGY",
     "STOP_REASON_TEXT",

@@ -30,6 +30,20 @@ def as_faces(faces, n_vertices: int) -> np.ndarray:
     return f
 
 
+def limits(values, n: int, name: str) -> np.ndarray:
+    """(n,) distances > 0, infinite where there is no limit; ValueError otherwise."""
+    a = np.asarray(values)
+    if a.shape != (n,):
+        raise ValueError(f"{name} must have one value per vertex, shape ({n},), got {a.shape}")
+    a = a.astype(np.float64)
+    if np.isnan(a).any():
+        raise ValueError(f"{name} contains NaN (give inf where a vertex has no limit)")
+    if (a <= 0).any():
+        raise ValueError(f"{name} must be > 0, inf where there is no limit (found {a.min()}): "
+                         f"lock the vertices that must not move")
+    return a
+
+
 def per_vertex(values, n: int, name: str, dtype=np.float64) -> np.ndarray:
     a = np.asarray(values)
     if a.shape != (n,):

@@ -24,6 +24,7 @@ from .guards import relaxation_ladder
 from .heartbeat import Heartbeat
 from .prepare import Problem
 from .result import (
+    STOP_LIMIT,
     STOP_MAX_ERROR,
     STOP_TARGET,
     STOP_TOPOLOGY,
@@ -86,11 +87,19 @@ class KeyOffsets:
 
 @dataclass
 class DistanceBound:
-    """``max_error`` in force (core.tracked_distance)."""
+    """``max_error`` or painted limits in force (core.tracked_distance)."""
 
     tracker: TrackedDistance
-    limit: float  # the bound, normalised units
-    far_rejected: np.ndarray  # (edges,) last rejected by the bound
+    limit: float  # the bound, normalised units (inf: only painted limits)
+    far_rejected: np.ndarray  # (edges,) int8: last rejected by the bound (BY_BOUND) or only by a painted limit (BY_LIMIT)
+    limited: np.ndarray  # (n,) bool: vertices under a painted limit (their parts are never removed)
+
+    @property
+    def global_bound(self) -> bool:
+        return bool(np.isfinite(self.limit))
+
+
+BY_BOUND, BY_LIMIT = 1, 2  # DistanceBound.far_rejected
 
 
 @dataclass
@@ -127,7 +136,7 @@ class State:
     slivers: object = None  # InputSlivers
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
-    bound: object = None  # DistanceBound, when max_error bounds the distance
+    bound: object = None  # DistanceBound, when max_error or painted limits bound the distance
     collapses: int = 0  # edge collapses applied so far
     heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
@@ -167,9 +176,12 @@ def run(p: Problem) -> list:
     )
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
-    if p.max_error is not None:
-        s.bound = DistanceBound(TrackedDistance(p.vertices, F, p.face_origin, p.run_faces), p.max_error[0],
-                                np.zeros(len(conn.edges), dtype=bool))
+    limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits)
+    if p.max_error is not None or limited.any():
+        tracker = TrackedDistance(p.vertices, F, p.face_origin, p.run_faces,
+                                  p.vertex_limits if limited.any() else None, everywhere=p.max_error is not None)
+        s.bound = DistanceBound(tracker, np.inf if p.max_error is None else p.max_error[0],
+                                np.zeros(len(conn.edges), dtype=np.int8), limited)
     if p.options.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
     input_quality = np.ones(p.run_faces)
@@ -200,9 +212,10 @@ def run(p: Problem) -> list:
         if len(s.F) <= target + 0 or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
-            if s.bound is not None and level < len(p.targets) and p.max_error[level] > s.bound.limit:
+            if s.bound is not None and s.bound.global_bound and level < len(p.targets) and \
+                    p.max_error[level] > s.bound.limit:
                 _loosen(s, p.max_error[level])  # a chain of bounds: each level under its own
-                if stop == STOP_MAX_ERROR:
+                if stop in (STOP_MAX_ERROR, STOP_LIMIT):  # (a few of the waiting edges may pass now)
                     stop = STOP_TARGET
             continue
         passes += 1
@@ -229,17 +242,23 @@ def _forget_rejections(s: State):
     s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
     s.cache = None
     if s.bound is not None:
-        s.bound.far_rejected = np.zeros(len(s.conn.edges), dtype=bool)
+        s.bound.far_rejected = np.zeros(len(s.conn.edges), dtype=np.int8)
 
 
-def _distance_blocks(s: State) -> bool:
-    """Whether an edge the distance bound rejected is still waiting (its neighbourhood
-    unchanged since): then the bound, not a quality rule, is what stops the run."""
+def _distance_blocks(s: State):
+    """The stop reason when an edge the distance bound rejected is still waiting (its
+    neighbourhood unchanged since), else None: then the bound, not a quality rule, is
+    what stops the run: STOP_LIMIT where painted limits hold back most of the waiting
+    edges (no larger max_error would let those pass), else STOP_MAX_ERROR."""
     far = np.flatnonzero(s.bound.far_rejected)
     if len(far) == 0:
-        return False
+        return None
     ends = s.conn.edges[far]
-    return bool(selection.still_rejected(s, far, ends[:, 0], ends[:, 1]).any())
+    waiting = far[selection.still_rejected(s, far, ends[:, 0], ends[:, 1])]
+    if len(waiting) == 0:
+        return None
+    by_limit = int(np.count_nonzero(s.bound.far_rejected[waiting] == BY_LIMIT))
+    return STOP_LIMIT if 2 * by_limit >= len(waiting) else STOP_MAX_ERROR
 
 
 def _shape_keys(s: State, p: Problem, names, X, area):
@@ -275,14 +294,20 @@ def _unstick(s: State, p: Problem, target: int):
         # pass that found no candidate has nothing to reuse.
         _forget_rejections(s)
         return None
-    # A removed part is as far from the LOD as can be: not under a distance bound.
-    if p.options.remove_small_components and s.bound is None:
-        dropped = components.smallest_to_drop(s.F, s.V, s.locked, len(s.F) - target)
+    # A removed part is as far from the LOD as can be: not under max_error, nor where a
+    # painted limit holds.
+    if p.options.remove_small_components and (s.bound is None or not s.bound.global_bound):
+        keep = s.locked if s.bound is None else s.locked | s.bound.limited
+        dropped = components.smallest_to_drop(s.F, s.V, keep, len(s.F) - target)
         if dropped is not None:
             faces, parts = dropped
             _drop_faces(s, ~faces)
             s.removed_components += parts
             return None
+    # Under painted limits the rules relax as for a count target; once nothing is left to
+    # relax, a limit that still holds an edge back is what stops the run.
+    if s.bound is not None:
+        return _distance_blocks(s) or STOP_TOPOLOGY
     return STOP_TOPOLOGY
 
 
@@ -300,7 +325,11 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         # What is left was rejected. Where the distance bound still holds an edge back, it
         # is what stops the run: relaxing the quality rules would only buy slivers under
         # the same bound. Otherwise the rules relax (_unstick) as for a face target.
-        return STOP_MAX_ERROR if s.bound is not None and _distance_blocks(s) else STOP_TOPOLOGY
+        # (Painted limits alone hold back only their regions: the rules relax elsewhere,
+        # and _unstick says STOP_LIMIT once nothing is left to relax.)
+        if s.bound is not None and s.bound.global_bound:
+            return _distance_blocks(s) or STOP_TOPOLOGY
+        return STOP_TOPOLOGY
     # The floor is off while the LOD has fewer slivers than its input's share, and for a
     # pass after one that took nothing: a LOD that hovers at the share would otherwise
     # crawl on a few collapses a pass (a CAD part took 590 passes for its last 250 faces).
@@ -364,8 +393,22 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
     taken = []
     # Greedy order, approximately: only the cheapest share of candidates may go this
     # pass, so costly regions wait for later passes as they would in a sequential queue.
-    pass_limit, later_limit = _cost_quantiles(cand.cost, (share, share * LATER_ROUND_SHARE))
+    # Edges a painted limit rejected stay candidates but do not set the share: in a run
+    # held back in its painted regions they are the cheapest, and would otherwise take
+    # the pass from the free regions, a few collapses a pass (a quarter of a sphere
+    # painted: 89 passes for 31).
+    ranked = cand.cost
+    free = None
+    if s.bound is not None:
+        free = s.bound.far_rejected[cand.edge] != BY_LIMIT
+        if free.all() or not free.any():
+            free = None
+        else:
+            ranked = cand.cost[free]
+    pass_limit, later_limit = _cost_quantiles(ranked, (share, share * LATER_ROUND_SHARE))
     eligible = cand.cost <= pass_limit
+    if free is not None:
+        eligible &= free
     window = None  # later rounds look only at the faces around what is still eligible
     # Faces the pass's collapses take from the corners opposite their edges.
     faces_taken = np.zeros(n, dtype=s.face_count.dtype)
@@ -455,7 +498,10 @@ def _remember_rejections(s: State, conn, cand, rejected, pass_no):
         return
     s.rejected_pass[cand.edge[rejected]] = pass_no
     if s.bound is not None:
-        s.bound.far_rejected[cand.edge[rejected]] = np.isin(cand.edge[rejected], s.bound.tracker.rejected_edges)
+        edge = cand.edge[rejected]
+        s.bound.far_rejected[edge] = np.where(np.isin(edge, s.bound.tracker.rejected_edges),
+                                              np.where(np.isin(edge, s.bound.tracker.limit_rejected), BY_LIMIT, BY_BOUND),
+                                              0)
 
 
 def _apply(s: State, conn, cand, chosen, pass_no):
@@ -562,7 +608,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         passes=passes,
         seconds=seconds,
         stop_reason=stop if len(s.F) > target else STOP_TARGET,
-        max_error=(s.max_error_seen if s.bound is None else s.bound.tracker.largest()) * p.scale,
+        max_error=(s.bound.tracker.largest() if s.bound is not None and s.bound.global_bound
+                   else s.max_error_seen) * p.scale,
         welded_vertices=p.welded,
         relaxation_step=s.guards.step,
         removed_components=s.removed_components,

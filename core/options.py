@@ -36,6 +36,14 @@ class Options:
         can be). The area-sampled
         Hausdorff distance (addon/measure.py) can come out somewhat above it, up to
         about 1.4x on the meshes measured: points between the tracked ones.
+      vertex_max_error: (n,) distances in mesh units (inf where free), or None: painted
+        limits, a local max_error. The LOD stays within vertex_max_error[i] of the source
+        around vertex i (tracked both ways as for max_error; a point inside a face takes
+        the limit its corners' limits give through the barycentric mean of 1 / limit, so
+        a painted weight w over a limit L, L / w, interpolates as w does). The count
+        target is honoured elsewhere; where the limits make it unreachable the run stops
+        above it with STOP_LIMIT. Rules relax as for a count target, and only parts with
+        no finite limit may be removed. With max_error too, the smaller bound holds.
 
     Controls (paper Eq. 16 and Sec. 4.4):
       line_weight: w for every vertex (1e-3 by default; 0 gives plain Garland-Heckbert).
@@ -103,6 +111,7 @@ class Options:
     """
 
     max_error: Union[float, Sequence[float], None] = None
+    vertex_max_error: Any = None
     line_weight: float = DEFAULT_LINE_WEIGHT
     line_weights: Any = None
     quadric_scale: Any = None

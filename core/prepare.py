@@ -41,6 +41,7 @@ class Problem:
     vertex_origin: np.ndarray
     targets: list
     max_error: object  # one bound per target, normalised units, or None
+    vertex_limits: object  # (n,) Options.vertex_max_error, normalised units (inf: free), or None
     line_weights: np.ndarray  # w_i of Eq. 16, per vertex
     quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
     locked: np.ndarray  # (n,) bool
@@ -72,6 +73,7 @@ class Checked:
     faces: np.ndarray
     targets: list
     max_error: object
+    vertex_limits: object
     line_weights: np.ndarray
     quadric_scale: object
     locked: np.ndarray
@@ -93,11 +95,14 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     n, m = len(vn), len(c.faces)
     welded = int(np.count_nonzero(rep != np.arange(n)))
     locked, line_weights, quadric_scale = c.locked, c.line_weights, c.quadric_scale
-    if welded:  # welded vertices pool their locks, weights and scales: the strongest wins
+    tightness = None if c.vertex_limits is None else scale / c.vertex_limits  # 1 / limit, normalised
+    if welded:  # welded vertices pool their locks, weights, scales and limits: the strongest wins
         locked = np.bincount(rep, weights=locked, minlength=n)[rep] > 0
         line_weights = _max_by_group(line_weights, rep, n)
         if quadric_scale is not None:
             quadric_scale = _max_by_group(quadric_scale, rep, n)
+        if tightness is not None:
+            tightness = _max_by_group(tightness, rep, n)
     problem = locality.reorder(Problem(
         options=c.options,
         vertices=vn,
@@ -107,6 +112,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         vertex_origin=np.arange(n),
         targets=c.targets,
         max_error=None if c.max_error is None else [e / scale for e in c.max_error],
+        vertex_limits=None if tightness is None else _inverse(tightness),
         line_weights=line_weights,
         quadric_scale=quadric_scale,
         locked=locked,
@@ -134,6 +140,7 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
     m = len(f)
     tgt = checks.targets(targets, m)
     max_error = None if o.max_error is None else checks.max_errors(o.max_error, len(tgt))
+    vertex_limits = None if o.vertex_max_error is None else checks.limits(o.vertex_max_error, n, "vertex_max_error")
     line_weight = checks.non_negative(o.line_weight, "line_weight")
     line_weights = (np.full(n, line_weight) if o.line_weights is None
                     else checks.per_vertex(o.line_weights, n, "line_weights"))
@@ -206,7 +213,7 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
         remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
         uv_attributes=tuple(o.uv_attributes or ()), shape_attributes=tuple(o.shape_attributes or ()),
         weld_distance=None if o.weld_distance is None else float(o.weld_distance))
-    return Checked(options, v, f, tgt, max_error, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few, poses)
+    return Checked(options, v, f, tgt, max_error, vertex_limits, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few, poses)
 
 
 def _frame(v: np.ndarray) -> tuple:
@@ -274,6 +281,12 @@ def _first_copies(faces: np.ndarray, n: int) -> tuple:
     np.minimum.at(first_of, (group, odd), np.arange(m))
     twin = first_of[group, 1 - odd]
     return first, np.where(twin < m, twin, -1)
+
+
+def _inverse(values: np.ndarray) -> np.ndarray:
+    """1 / values, inf where a value is 0."""
+    with np.errstate(divide="ignore"):
+        return 1.0 / values
 
 
 def _max_by_group(values, rep, n):

@@ -11,11 +11,15 @@ STOP_MAX_ERROR = "max_error_reached"
 # No collapse is possible even with every quality rule relaxed (core.guards): closed
 # parts, holes, non-manifold edges and locked vertices allow no fewer triangles.
 STOP_TOPOLOGY = "topology_limit"
+# The painted limits (Options.vertex_max_error) hold back every collapse the target still
+# needs, with every quality rule relaxed and every part that may go removed.
+STOP_LIMIT = "limit_reached"
 
 # The stop reasons in words, for reports to artists.
 STOP_REASON_TEXT = {
     STOP_TARGET: "target reached",
     STOP_MAX_ERROR: "the maximum error allows no further collapse",
+    STOP_LIMIT: "the painted limits allow no further collapse where the region must stay close",
     STOP_TOPOLOGY: ("the mesh's topology allows no fewer triangles (each closed part needs at "
                     "least four, each open one at least one; non-manifold edges, holes, locked "
                     "vertices and separate parts keep theirs)"),

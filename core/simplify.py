@@ -36,7 +36,8 @@ def simplify(
     so every target the topology allows is reached; ``stats.stop_reason`` is
     ``"topology_limit"`` when even the loosest step cannot go on, and
     ``"max_error_reached"`` when the distance bound holds collapses back (then no rule
-    relaxes).
+    relaxes), and ``"limit_reached"`` when the painted limits (``vertex_max_error``) do,
+    after every rule relaxed elsewhere.
 
     progress(fraction) is called after every pass and, in long ones, every quarter second
     between their steps (core.heartbeat); returning False raises SimplifyCancelled.

@@ -36,6 +36,7 @@ from .geometry import closest_on_triangles, rows
 # points a face) the sampled distance came out as close to the bound (1.17-1.44x against
 # 1.19-1.41x on the Fox and homer at 0.05-1 %), a third faster.
 FACE_GRID = 2
+LIMIT_GRID = 4
 # Bounds under this share of the limit are trusted as they are; above it they are
 # measured (and a point farther than it from the face its face becomes looks for the
 # nearest new face).
@@ -57,7 +58,8 @@ class TrackedDistance:
     the input face id of each row, as the engine's face_origin starts; input_faces: the
     number of input face ids."""
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray, face_ids: np.ndarray, input_faces: int):
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, face_ids: np.ndarray, input_faces: int,
+                 vertex_limits=None, everywhere: bool = True):
         m = len(faces)
         self.triangles = np.zeros((input_faces, 3, 3))
         self.triangles[face_ids] = vertices[faces]
@@ -69,7 +71,7 @@ class TrackedDistance:
         first_face[faces.ravel()[::-1]] = np.repeat(np.arange(m), 3)[::-1]
         # Inside the faces, a barycentric grid: the distance to the LOD can peak between
         # the corners (on the Fox at 0.2 %, twice what the corners and centroids say).
-        grid = _barycentric_grid(FACE_GRID)
+        grid = _barycentric_grid(FACE_GRID if everywhere else LIMIT_GRID)
         inner = np.einsum("gk,fkj->fgj", grid, self.triangles[face_ids]).reshape(-1, 3)
         self.points = np.concatenate([vertices[vertex_points], inner])
         on_face = np.repeat(face_ids, len(grid))
@@ -77,6 +79,19 @@ class TrackedDistance:
         # The input face a point lies inside (-1 for vertices): the LOD-to-source side
         # measures against the faces the fan holds.
         self.source_face = np.concatenate([np.full(len(vertex_points), -1, dtype=np.int64), on_face])
+        # Painted limits (Options.vertex_max_error) as tightness, 1 / limit (0: free): a
+        # point inside a face takes its corners' barycentric mean, so a painted weight
+        # over a limit interpolates as the weight does; an input face, its tightest corner.
+        tight = np.zeros(len(vertices)) if vertex_limits is None else _inverse(vertex_limits)
+        self.point_tightness = np.concatenate([tight[vertex_points],
+                                               np.einsum("gk,fk->fg", grid, tight[faces]).ravel()])
+        self.face_tightness = np.zeros(input_faces)
+        self.face_tightness[face_ids] = tight[faces].max(axis=1)
+        if not everywhere:
+            # Only the limits bound the distance: a free point never needs measuring.
+            kept = self.point_tightness > 0
+            self.points, self.face_of_point = self.points[kept], self.face_of_point[kept]
+            self.source_face, self.point_tightness = self.source_face[kept], self.point_tightness[kept]
         self.distance = np.zeros(len(self.points))
         self.input_faces = input_faces
         # Per input face id: a bound on the distance from the live face that descends from
@@ -85,6 +100,7 @@ class TrackedDistance:
         # Per vertex: an upper bound on its distance to the source (0 where it has not moved).
         self.vertex_far = np.zeros(len(vertices))
         self.rejected_edges = np.zeros(0, dtype=np.int64)  # those the last ``within`` rejected
+        self.limit_rejected = np.zeros(0, dtype=np.int64)  # among them, those only a painted limit rejected
         self._pending = []
         self._index()
 
@@ -118,12 +134,20 @@ class TrackedDistance:
         everywhere); elsewhere the distances are measured and replace the bounds."""
         c = len(edges)
         ids = face_origin[fan_faces]
-        limit = CLOSE_ENOUGH * bound
         # Every point of the old fans, with the fan row it lies on.
         counts = self.starts[ids + 1] - self.starts[ids]
         home = np.repeat(np.arange(len(ids)), counts)
         point = self.order[_ranges(self.starts[ids], counts)]
         owner = collapse[home]
+        # What bounds each point, and each collapse's new fan: ``bound`` or a painted
+        # limit, whichever is smaller (a collapse: the tightest limit of its old fan's
+        # faces and points).
+        point_bound = np.minimum(bound, _inverse(self.point_tightness[point]))
+        fan_tightness = np.zeros(c)
+        np.maximum.at(fan_tightness, collapse, self.face_tightness[ids])
+        np.maximum.at(fan_tightness, owner, self.point_tightness[point])
+        collapse_bound = np.minimum(bound, _inverse(fan_tightness))
+        limit = CLOSE_ENOUGH * point_bound
 
         # Source to LOD: the bound on the face its face becomes; where that is too loose
         # (or the face dies), measured against that face (a dying face's points: the two
@@ -134,6 +158,7 @@ class TrackedDistance:
         loose = np.flatnonzero((d > limit) | (new_face < 0))
         if len(loose):
             xyz = rows(self.points, point[loose])
+            limit_sq = limit[loose] ** 2
             first, second = _next_faces(collapse, is_new, ring)
             d2 = np.full(len(loose), np.inf)
             face_of = np.full(len(loose), -1, dtype=np.int64)
@@ -145,7 +170,7 @@ class TrackedDistance:
                 closer = d2_here < d2[has]
                 d2[has[closer]] = d2_here[closer]
                 face_of[has[closer]] = face[has[closer]]
-            far = np.flatnonzero(d2 > limit * limit)
+            far = np.flatnonzero(d2 > limit_sq)
             if len(far):
                 new_rows = np.flatnonzero(is_new)
                 groups = _Groups(collapse[new_rows], c)
@@ -155,15 +180,18 @@ class TrackedDistance:
                 face_of[far[better]] = new_rows[row[better]]
             d[loose] = np.sqrt(d2)
             new_face[loose] = face_of
-        worst = np.zeros(c)
-        np.maximum.at(worst, owner, d)
+        beyond = np.bincount(owner[d > point_bound], minlength=c) > 0
+        local_bound = _inverse(fan_tightness)
+        beyond_limit = np.bincount(owner[d > _inverse(self.point_tightness[point])], minlength=c) > 0
 
         face_far, lod_worst, vertex = self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face,
-                                                          moved, moving, ring, limit, c)
-        ok = (worst <= bound) & (lod_worst <= bound)
+                                                          moved, moving, ring, CLOSE_ENOUGH * collapse_bound, c)
+        ok = ~beyond & (lod_worst <= collapse_bound)
         present = np.zeros(c, dtype=bool)
         present[collapse] = True
         self.rejected_edges = edges[present & ~ok]
+        # Those a painted limit rejects whatever ``bound`` is: no larger bound lets them pass.
+        self.limit_rejected = edges[present & ~ok & (beyond_limit | (lod_worst > local_bound))]
         # Remember where the points of the accepted collapses go, and their faces' and new
         # vertices' bounds.
         # (A dying face's bound goes with it: face_far is 0 on dying rows.)
@@ -179,8 +207,8 @@ class TrackedDistance:
         dying rows), the largest per collapse, and the new vertex's.
 
         The new vertex: no farther than either end's bound plus how far that end moves,
-        and where that passes ``limit``, measured against the input triangles under the
-        old fan (those its faces descend from, or whose points they hold). A face: its
+        and where that passes its collapse's ``limit`` (c,), measured against the input
+        triangles under the old fan (those its faces descend from, or whose points they hold). A face: its
         bound from before plus how far its corner moved, and where that passes
         ``limit``, its corners' bounds and its points measured (centroid and new edges'
         midpoints) against the input triangles under the face, or under the whole old
@@ -199,7 +227,7 @@ class TrackedDistance:
 
         vertex = np.full(c, np.inf)
         np.minimum.at(vertex, collapse, self.vertex_far[moving] + moved)
-        loose_vertex = np.unique(collapse[vertex[collapse] > limit])  # (collapses without rows are rejected)
+        loose_vertex = np.unique(collapse[vertex[collapse] > limit[collapse]])  # (collapses without rows are rejected)
         if len(loose_vertex):
             at = np.zeros(c, dtype=np.int64)
             at[collapse[::-1]] = np.arange(len(collapse))[::-1]  # a row of each collapse: its x
@@ -218,14 +246,14 @@ class TrackedDistance:
             known = np.flatnonzero(tri_of[loose_vertex] >= 0)
             t = self.triangles[tri_of[loose_vertex[known]]]
             measured[known] = _distance_sq(x[loose_vertex[known]], t[:, 0], t[:, 1], t[:, 2])
-            again = np.flatnonzero(measured > limit * limit)
+            again = np.flatnonzero(measured > limit[loose_vertex] ** 2)
             if len(again):
                 measured[again] = np.minimum(measured[again],
                                              nearest_under_fan(x[loose_vertex[again]], loose_vertex[again]))
             vertex[loose_vertex] = np.minimum(vertex[loose_vertex], np.sqrt(measured))
 
         face_far = np.where(is_new, self.face_far[ids] + moved, 0.0)
-        loose = np.flatnonzero(is_new & (face_far > limit))
+        loose = np.flatnonzero(is_new & (face_far > limit[collapse]))
         if len(loose):
             t = new_tri[loose]
             # (The far edge's points are as far from the source as before: it does not move.)
@@ -242,13 +270,14 @@ class TrackedDistance:
             known = np.flatnonzero(nearest_point >= 0)
             t = self.triangles[source[nearest_point[known]]]
             d2[known] = _distance_sq(samples[known], t[:, 0], t[:, 1], t[:, 2])
-            again = np.flatnonzero(d2 > limit * limit)
+            limit_sq = limit[collapse[sample_row]] ** 2
+            again = np.flatnonzero(d2 > limit_sq)
             if len(again):
                 under_row = _Groups.of_pairs(np.concatenate([np.arange(len(ids)), new_face[has]]),
                                              np.concatenate([ids, source[has]]), len(ids), self.input_faces)
                 d2[again] = np.minimum(d2[again], under_row.nearest(samples[again], sample_row[again],
                                                                     lambda m: self.triangles[m])[0])
-            far = np.flatnonzero(d2 > limit * limit)
+            far = np.flatnonzero(d2 > limit_sq)
             if len(far):
                 d2[far] = np.minimum(d2[far], nearest_under_fan(samples[far], collapse[sample_row[far]]))
             corners = np.maximum(vertex[collapse[loose]], self.vertex_far[ring[loose]].max(axis=1))
@@ -336,6 +365,12 @@ class _Groups:
         which = np.full(len(queries), -1, dtype=np.int64)
         which[pair[hit[::-1]]] = member[hit[::-1]]  # the first nearest
         return best, which
+
+
+def _inverse(values: np.ndarray) -> np.ndarray:
+    """1 / values: 0 where a value is infinite, infinite where it is 0."""
+    with np.errstate(divide="ignore"):
+        return 1.0 / np.asarray(values, dtype=np.float64)
 
 
 def _ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
