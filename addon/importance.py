@@ -76,6 +76,43 @@ def pose_weight(strength: float) -> float:
     return POSE_WEIGHT_AT_FULL_STRENGTH * float(strength)
 
 
+# Source Shape Keys: importance where the keys move the surface (shape_key_importance).
+# A vertex counts as moved when its largest offset is above KEY_MOVING times the largest
+# of all (below that it is noise, or a key's far tail); the robust maximum is the
+# KEY_REFERENCE_QUANTILE quantile of the moved vertices' offsets, so a few outliers (one
+# vertex a key pulls far) do not make the rest of the keyed region count for little.
+KEY_MOVING = 1e-3
+KEY_REFERENCE_QUANTILE = 0.9
+
+
+def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
+    """Importance g in [0, 1] per vertex from shape-key offsets (K, n, 3) (what each key
+    moves each vertex by at value 1): the largest offset over the keys, m_i, over a robust
+    maximum r (the KEY_REFERENCE_QUANTILE quantile of m over the vertices that move),
+    through a smoothstep: g = 3t^2 - 2t^3 with t = min(m / r, 1).
+
+    Why this falloff: g = 1 from the robust maximum on (every vertex a key moves that
+    far matters alike), and towards a key's edge, where the offsets fade into the still
+    surface, g fades with zero slope at both ends, so the region of higher density has
+    no step at its border (a step in g is a step in density) and the small movements at
+    a key's far tail count for little (t = 0.25 gives 0.16, t = 0.5 gives 0.5). Vertices
+    that no key moves get 0; no key moving anything gives 0 everywhere."""
+    offsets = np.asarray(offsets, dtype=np.float64)
+    if offsets.ndim != 3 or offsets.shape[2] != 3:
+        raise ValueError(f"shape-key offsets must be a (keys, n, 3) array, got shape {offsets.shape}")
+    n = offsets.shape[1]
+    if offsets.shape[0] == 0 or n == 0:
+        return np.zeros(n)
+    moved = np.sqrt(np.einsum("knj,knj->kn", offsets, offsets)).max(axis=0)
+    moved[~np.isfinite(moved)] = 0.0
+    top = float(moved.max())
+    if top <= 0.0:
+        return np.zeros(n)
+    reference = float(np.quantile(moved[moved > KEY_MOVING * top], KEY_REFERENCE_QUANTILE))
+    t = np.minimum(moved / reference, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
     """Importance g in [0, 1] from (n, bones) deform weights: the paper's Sec. 5.3 line
     weights w_i over their cap (w / 0.1)."""
