@@ -87,16 +87,18 @@ KEY_REFERENCE_QUANTILE = 0.9
 
 def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
     """Importance g in [0, 1] per vertex from shape-key offsets (K, n, 3) (what each key
-    moves each vertex by at value 1): the largest offset over the keys, m_i, over a robust
-    maximum r (the KEY_REFERENCE_QUANTILE quantile of m over the vertices that move),
-    through a smoothstep: g = 3t^2 - 2t^3 with t = min(m / r, 1).
+    moves each vertex by at value 1): the largest offset over the keys, m_i, in proportion
+    to a robust maximum r (the KEY_REFERENCE_QUANTILE quantile of m over the vertices that
+    move), g = min(m / r, 1).
 
-    Why this falloff: g = 1 from the robust maximum on (every vertex a key moves that
-    far matters alike), and towards a key's edge, where the offsets fade into the still
-    surface, g fades with zero slope at both ends, so the region of higher density has
-    no step at its border (a step in g is a step in density) and the small movements at
-    a key's far tail count for little (t = 0.25 gives 0.16, t = 0.5 gives 0.5). Vertices
-    that no key moves get 0; no key moving anything gives 0 everywhere."""
+    The falloff is the keys' own: g follows how far the vertex moves, so where a key fades
+    into the still surface its importance fades with it, continuously (a step in g would
+    be a step in density), and saturates at 1 for the furthest-moving tenth (one vertex
+    pulled far does not make the rest of the keyed region count for little). Measured
+    against a smoothstep of the same ratio (which lets the small movements at a key's
+    tail count less): the linear ramp kept the keyed regions as close or closer at the
+    same cost at rest (docs/benchmarks.md, shape keys). Vertices that no key moves get 0;
+    no key moving anything gives 0 everywhere."""
     offsets = np.asarray(offsets, dtype=np.float64)
     if offsets.ndim != 3 or offsets.shape[2] != 3:
         raise ValueError(f"shape-key offsets must be a (keys, n, 3) array, got shape {offsets.shape}")
@@ -109,8 +111,7 @@ def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
     if top <= 0.0:
         return np.zeros(n)
     reference = float(np.quantile(moved[moved > KEY_MOVING * top], KEY_REFERENCE_QUANTILE))
-    t = np.minimum(moved / reference, 1.0)
-    return t * t * (3.0 - 2.0 * t)
+    return np.minimum(moved / reference, 1.0)
 
 
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:

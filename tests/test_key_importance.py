@@ -55,7 +55,7 @@ def test_importance_of_the_largest_offset_over_the_keys():
     g = imp.shape_key_importance(offsets)
     assert g[0] == g[1] == pytest.approx(1.0)
     assert 0.0 < g[2] < 1.0 and g[3] == 0.0
-    # Half the robust maximum gives the smoothstep's middle.
+    # In proportion to the robust maximum.
     assert imp.shape_key_importance(np.array([[[1.0, 0, 0]] * 9 + [[0.5, 0, 0]]]))[-1] == pytest.approx(0.5)
 
 
