@@ -5,6 +5,7 @@ The scene (tests/scenarios/addon_shape_keys.py): a sphere whose key "Crown" rais
 ridged crown on its top cap and whose key "Still" moves nothing, taken to 10 % and 5 %.
 """
 import math
+import re
 
 import pytest
 
@@ -68,6 +69,23 @@ def test_no_shape_keys_is_a_clear_error(res):
 
 def test_command_line_uses_shape_keys_where_there_are_some(res):
     assert res["choices"] == [["SHAPE_KEYS", "", None], ["NONE", "", "no importance (no shape keys)"]]
+
+
+def test_panel_offers_the_source_and_says_when_keys_are_missing(res):
+    draws = res["panel"]
+    bake = "object.line_quadric_lod_from_shape_keys"
+    operators = {tag: [x[1] for x in items if x[0] == "operator"] for tag, items in draws.items()}
+    labels = {tag: [x[2] for x in items if x[0] == "label"] for tag, items in draws.items()}
+    assert bake in operators["ball_none"] and bake in operators["ball_keys"]
+    assert bake not in operators["plain_none"]  # nothing to bake from
+    assert bake in operators["plain_keys"]  # shown with the source chosen: its poll says why not
+    assert "object.line_quadric_lod_preview_importance" in operators["ball_keys"]
+    assert '"Plain" has no shape keys' in labels["plain_keys"]
+    assert not any("has no shape keys" in text for text in labels["ball_keys"] + labels["plain_none"])
+    # The Last Run box: per LOD the keys' mean and the worst key.
+    lines = [text for text in labels["ball_none"] if " keys at 1: " in (text or "")]
+    assert len(lines) == 2 and lines[0].startswith("LOD1 keys at 1: mean "), lines
+    assert all(re.search(r'worst "(Crown|Still)" [0-9.]+ % max$', line) for line in lines), lines
 
 
 def test_importance_from_shape_keys_bakes_the_group(res):

@@ -3,6 +3,8 @@
 nothing, simplified to 10 % and 5 % with no importance and with Source Shape Keys;
 Importance from Shape Keys; and an object without keys, for the errors
 (tests/test_addon_shape_keys.py checks what this returns)."""
+import importlib
+import json
 from types import SimpleNamespace
 
 import bpy
@@ -26,10 +28,14 @@ def keyed_sphere():
     return ob
 
 
+REPORTS = []  # every generate_lods report, for the panel's Last Run box
+
+
 def lods(ob, source: str, measure: bool = True) -> dict:
     lod = extension_module("addon.lod")
     report = lod.generate_lods(bpy.context, ob, lod.LodSettings(
         ratios=(0.1, 0.05), importance_source=source, measure_deviation=measure))
+    REPORTS.append(report)
     levels = []
     for entry in report["levels"]:
         lod_ob = bpy.data.objects[entry["name"]]
@@ -87,6 +93,25 @@ def bake(ob) -> dict:
             "below_cap_max": float(written[co[:, 2] < CAP - 1e-6].max()), "top": float(written.max())}
 
 
+def panel(ball, plain) -> dict:
+    """What the panel draws (bench/figures/ui_recorder.py, as tests/scenarios/addon_monkey.py
+    records it): {state: [[kind, property or operator, text], ...]}."""
+    ui_recorder = importlib.import_module("bench.figures.ui_recorder")
+    panel_cls = extension_module("addon.panel").VIEW3D_PT_line_quadric_lod
+    settings = bpy.context.scene.line_quadric_lod
+    settings.last_report = json.dumps([REPORTS[1]])  # the Source Shape Keys run
+    out = {}
+    for tag, ob, source in (("ball_none", ball, 'NONE'), ("ball_keys", ball, 'SHAPE_KEYS'),
+                            ("plain_none", plain, 'NONE'), ("plain_keys", plain, 'SHAPE_KEYS')):
+        select_only(ob)
+        settings.importance_source = source
+        root = ui_recorder.record_panel(panel_cls, bpy.context)
+        out[tag] = [[it["kind"], it.get("prop") or it.get("idname"), it["text"]]
+                    for it, _active, _enabled in ui_recorder.walk(root.to_dict())]
+    settings.importance_source = 'NONE'
+    return out
+
+
 def run() -> dict:
     remove_all_objects()
     ball = keyed_sphere()
@@ -101,5 +126,6 @@ def run() -> dict:
         "unmeasured": lods(ball, 'SHAPE_KEYS', measure=False),
         "errors": errors(plain),
         "choices": choices([ball, plain]),
+        "panel": panel(ball, plain),
         "bake": bake(ball),
     }
