@@ -18,7 +18,10 @@ each is measured as its own stored shape.
 Cost: two BVH trees and queries per key and level. Up to KEYS_AT_FULL_SAMPLES keys are
 sampled as the level is (deviation_search.report_samples); beyond that the samples are
 shared out so that all keys together cost about as much as KEYS_AT_FULL_SAMPLES levels,
-at least KEY_SAMPLES_MIN per surface (every vertex is queried on top).
+at least KEY_SAMPLES_MIN per surface. Every vertex of both surfaces is queried on top
+(the Hausdorff distance needs them), so a rig of a hundred keys still costs a hundred
+times the vertices; keys that move nothing on this mesh (a glTF import gives every part
+all of its morph targets) are the rest shape and are measured once.
 
 No bpy here (mathutils only when measuring), so the offsets can be tested without Blender.
 """
@@ -89,9 +92,16 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
     samples = (key_samples(len(data.faces), keys), key_samples(len(level.faces), keys))
     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
     out = []
+    still = None  # keys that move nothing are the rest shape: measured once
     for k, sk in enumerate(data.shape_keys):
-        d = measure.surface_deviation(data.vertices + source[k], data.faces, level.vertices + lod[k], level.faces,
-                                      n_samples=samples)
+        if not source[k].any() and not lod[k].any():
+            if still is None:
+                still = measure.surface_deviation(data.vertices, data.faces, level.vertices, level.faces,
+                                                  n_samples=samples)
+            d = still
+        else:
+            d = measure.surface_deviation(data.vertices + source[k], data.faces, level.vertices + lod[k],
+                                          level.faces, n_samples=samples)
         out.append({"name": sk.name, "hausdorff": float(d["hausdorff"]), "mean": float(d["mean"]),
                     "hausdorff_percent": float(d["hausdorff"] * scale), "mean_percent": float(d["mean"] * scale)})
     return out
