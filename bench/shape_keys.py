@@ -20,7 +20,6 @@ Prints markdown tables and the processor; docs/benchmarks.md quotes them.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import _bootstrap  # noqa: F401  (path + isolated user dirs)
 import numpy as np
@@ -166,7 +165,6 @@ def simplify_asset(objects, ratio: float, source: str, strength: float) -> tuple
 
 def _world(parts: list, objects: list):
     """The MeshData ``parts`` of ``objects`` as one MeshData in world space (keys by name)."""
-    import dataclasses
     from addon import mesh_io
 
     names = list(dict.fromkeys(sk.name for data in parts for sk in data.shape_keys))

@@ -13,8 +13,8 @@ from addon.settings import LodError, LodSettings, flagged
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
 REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",
-                    "--jobs", "--line-weight", "--importance-group", "--from-armature", "--from-shape-keys", "--strength",
-                    "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
+                    "--jobs", "--line-weight", "--importance-group", "--from-armature", "--from-shape-keys",
+                    "--strength", "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
                     "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials", "--min-quality",
                     "--feature-angle", "--keep-small-parts"]
 
