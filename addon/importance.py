@@ -76,6 +76,44 @@ def pose_weight(strength: float) -> float:
     return POSE_WEIGHT_AT_FULL_STRENGTH * float(strength)
 
 
+# Source Shape Keys: importance where the keys move the surface (shape_key_importance).
+# A vertex counts as moved when its largest offset is above KEY_MOVING times the largest
+# of all (below that it is noise, or a key's far tail); the robust maximum is the
+# KEY_REFERENCE_QUANTILE quantile of the moved vertices' offsets, so a few outliers (one
+# vertex a key pulls far) do not make the rest of the keyed region count for little.
+KEY_MOVING = 1e-3
+KEY_REFERENCE_QUANTILE = 0.9
+
+
+def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
+    """Importance g in [0, 1] per vertex from shape-key offsets (K, n, 3) (what each key
+    moves each vertex by at value 1): the largest offset over the keys, m_i, in proportion
+    to a robust maximum r (the KEY_REFERENCE_QUANTILE quantile of m over the vertices that
+    move), g = min(m / r, 1).
+
+    The falloff is the keys' own: g follows how far the vertex moves, so where a key fades
+    into the still surface its importance fades with it, continuously (a step in g would
+    be a step in density), and saturates at 1 for the furthest-moving tenth (one vertex
+    pulled far does not make the rest of the keyed region count for little). Measured
+    against a smoothstep of the same ratio (which lets the small movements at a key's
+    tail count less): the linear ramp kept the keyed regions as close or closer at the
+    same cost at rest (docs/benchmarks.md, shape keys). Vertices that no key moves get 0;
+    no key moving anything gives 0 everywhere."""
+    offsets = np.asarray(offsets, dtype=np.float64)
+    if offsets.ndim != 3 or offsets.shape[2] != 3:
+        raise ValueError(f"shape-key offsets must be a (keys, n, 3) array, got shape {offsets.shape}")
+    n = offsets.shape[1]
+    if offsets.shape[0] == 0 or n == 0:
+        return np.zeros(n)
+    moved = np.sqrt(np.einsum("knj,knj->kn", offsets, offsets)).max(axis=0)
+    moved[~np.isfinite(moved)] = 0.0
+    top = float(moved.max())
+    if top <= 0.0:
+        return np.zeros(n)
+    reference = float(np.quantile(moved[moved > KEY_MOVING * top], KEY_REFERENCE_QUANTILE))
+    return np.minimum(moved / reference, 1.0)
+
+
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
     """Importance g in [0, 1] from (n, bones) deform weights: the paper's Sec. 5.3 line
     weights w_i over their cap (w / 0.1)."""

@@ -32,6 +32,7 @@ from . import deviation_search
 from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
+from . import key_deviation
 from . import measure
 from . import mesh_io
 from . import skin_fit
@@ -185,10 +186,28 @@ def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES, seed
     return poses[:, [names.index(group_names[c]) for c in cols]]
 
 
-def _importance(obj, settings, group_names, group_weights) -> Optional[np.ndarray]:
+def no_shape_keys(obj) -> str:
+    """The message for Source Shape Keys on an object without any."""
+    return (f'"{obj.name}" has no shape keys: add some (Object Data Properties > Shape Keys) '
+            f'or choose another importance source')
+
+
+def shape_key_importance_of(obj) -> np.ndarray:
+    """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
+    from its shape keys (importance.shape_key_importance); LodError when it has none."""
+    names = vertex_groups.group_names(obj.data)
+    weights = vertex_groups.read_weights(obj.data, names) if names else None
+    basis_name, use_relative, keys = mesh_io.read_shape_keys(obj.data)
+    if not keys:
+        raise LodError(no_shape_keys(obj))
+    return imp.shape_key_importance(key_deviation.key_offsets(keys, use_relative, names, weights, basis_name))
+
+
+def _importance(obj, settings, group_names, group_weights, key_offsets=None) -> Optional[np.ndarray]:
     """Importance g in [0, 1] per vertex from the settings' source, or None (no source);
-    group_names and group_weights (n, g) are the mesh's vertex groups. LodError names
-    what is missing."""
+    group_names and group_weights (n, g) are the mesh's vertex groups, ``key_offsets()``
+    what its shape keys move each vertex by (key_deviation.key_offsets; only called for
+    Source Shape Keys). LodError names what is missing."""
     if settings.importance_source == 'VERTEX_GROUP':
         name = settings.importance_group
         if not name:
@@ -198,6 +217,11 @@ def _importance(obj, settings, group_names, group_weights) -> Optional[np.ndarra
         return np.asarray(group_weights)[:, list(group_names).index(name)]
     if settings.importance_source == 'ARMATURE_PAPER':
         return skin_importance_of(obj, group_names, group_weights)
+    if settings.importance_source == 'SHAPE_KEYS':
+        offsets = key_offsets() if key_offsets is not None else np.zeros((0, 0, 3))
+        if len(offsets) == 0:
+            raise LodError(no_shape_keys(obj))
+        return imp.shape_key_importance(offsets)
     return None  # 'ARMATURE' acts through the sample poses (prepare), not through g
 
 
@@ -333,7 +357,9 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         targets = settings.targets(len(data.faces), *chain_labels)
         if settings.deviation_chain() is not None:
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
-    g = _importance(source, settings, data.group_names, data.group_weights)
+    g = _importance(source, settings, data.group_names, data.group_weights, lambda: key_deviation.offsets_of(data))
+    if g is not None and settings.importance_source == 'SHAPE_KEYS' and not np.any(g > 0):
+        warnings.append("no shape key moves any vertex: Source Shape Keys has nothing to keep")
     poses = check_poses = None
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
         every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
@@ -353,12 +379,15 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     if obj is None or getattr(obj, "type", None) != 'MESH':
         raise LodError("Make a mesh object active")
     if settings.importance_source == 'NONE':
-        raise LodError("Importance source is None: choose a vertex group or the armature first")
+        raise LodError("Importance source is None: choose a vertex group, the armature or the shape keys first")
     if settings.importance_source == 'ARMATURE':
         raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
                        "there is nothing to preview (Armature (Paper) has one)")
-    names = vertex_groups.group_names(obj.data)
-    g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
+    if settings.importance_source == 'SHAPE_KEYS':
+        g = shape_key_importance_of(obj)
+    else:
+        names = vertex_groups.group_names(obj.data)
+        g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
 
 
@@ -549,6 +578,9 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
+        if measuring and data.shape_keys:
+            # Each key's shape too: the LOD with the key at 1 against the source with it.
+            entry["shape_keys"] = key_deviation.level_key_deviations(data, levels[-1])
         if lod_input.importance is not None:
             density = importance_density(lod_input.importance, result.vertex_origin)
             if density is not None:
@@ -860,6 +892,9 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                normal_max_degrees (if measured), mean_quality, min_quality, sliver_percent,
                importance (with importance on: painted_vertices, painted_kept,
                painted_kept_percent, rest_kept_percent, painted_density),
+               shape_keys (measured, with shape keys: per key {name, hausdorff, mean,
+               hausdorff_percent, mean_percent}, the LOD and the source each with that
+               key at 1; key_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
      switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,

@@ -189,17 +189,25 @@ def _shape_key_meta(block, offsets) -> ShapeKeyData:
     )
 
 
-def _base_shape_keys(mesh, data: MeshData) -> None:
+def read_shape_keys(mesh: bpy.types.Mesh) -> tuple:
+    """(basis name, use_relative, [ShapeKeyData]) of ``mesh``'s own shape keys, offsets
+    from its vertices (the basis); ("Basis", True, []) without keys."""
     key = mesh.shape_keys
     if key is None or len(key.key_blocks) < 2:
-        return
+        return "Basis", True, []
     n = len(mesh.vertices)
-    basis = data.vertices
-    data.basis_name = key.key_blocks[0].name
-    data.shape_use_relative = bool(key.use_relative)
+    basis = _get(mesh.vertices, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
+    keys = []
     for block in key.key_blocks[1:]:
         co = _get(block.data, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
-        data.shape_keys.append(_shape_key_meta(block, co - basis))
+        keys.append(_shape_key_meta(block, co - basis))
+    return key.key_blocks[0].name, bool(key.use_relative), keys
+
+
+def _base_shape_keys(mesh, data: MeshData) -> None:
+    if mesh.shape_keys is None or len(mesh.shape_keys.key_blocks) < 2:
+        return
+    data.basis_name, data.shape_use_relative, data.shape_keys = read_shape_keys(mesh)
 
 
 def deforming_armature_modifiers(obj) -> list:

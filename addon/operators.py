@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's operators: Generate LODs, Paint Importance, Importance from Armature,
-Preview Importance.
+Importance from Shape Keys, Preview Importance.
 
 Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
 a Python traceback; unexpected errors are printed to the console for bug reports.
@@ -295,6 +295,45 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
         return {'FINISHED'}
 
 
+def has_shape_keys(ob) -> bool:
+    """Whether the object ``ob`` (a mesh) has shape keys besides its basis."""
+    keys = getattr(ob.data, "shape_keys", None)
+    return keys is not None and len(keys.key_blocks) > 1
+
+
+class OBJECT_OT_line_quadric_lod_from_shape_keys(_ImportanceOperator, bpy.types.Operator):
+    """Bake importance from the shape keys into the vertex group "LOD_Importance" (vertices the keys move matter, the more the farther they move), so it can be seen and repainted"""
+
+    bl_idname = "object.line_quadric_lod_from_shape_keys"
+    bl_label = "Importance from Shape Keys"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        if not super().poll(context):
+            return False
+        ob = context.active_object
+        if not has_shape_keys(ob):
+            cls.poll_message_set(f'"{ob.name}" has no shape keys')
+            return False
+        return True
+
+    def execute(self, context):
+        if self.report_blocker(context):
+            return {'CANCELLED'}
+        ob = context.active_object
+        written = self.write_group(ob, IMPORTANCE_GROUP, lambda: (lod.shape_key_importance_of(ob), None))
+        if written is None:
+            return {'CANCELLED'}
+        g = written[0]
+        _use_importance_group(context, ob, ob.vertex_groups[IMPORTANCE_GROUP])
+        keys = len(ob.data.shape_keys.key_blocks) - 1
+        self.report({'INFO'}, f'"{IMPORTANCE_GROUP}": importance from {keys} shape key{"s" if keys != 1 else ""} '
+                              f'on {int(np.count_nonzero(g > 0)):,} of {len(g):,} vertices '
+                              f'(1 = moved as far as the keys move most)')
+        return {'FINISHED'}
+
+
 class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.types.Operator):
     """Show what the Importance settings will do: writes each vertex's effective importance (0 = simplified like the rest, 1 = the slider's top, nearly locked) into the vertex group "LOD_Importance_Preview" and shows it in Weight Paint mode"""
 
@@ -331,5 +370,6 @@ classes = (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_paint,
     OBJECT_OT_line_quadric_lod_from_armature,
+    OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_preview_importance,
 )

@@ -10,8 +10,10 @@ from .importance import expected_gain, pose_weight
 from .operators import (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_from_armature,
+    OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_paint,
     OBJECT_OT_line_quadric_lod_preview_importance,
+    has_shape_keys,
 )
 
 
@@ -79,6 +81,8 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                     box.label(text=f'"{ob.name}" has no group "{settings.importance_group}"', icon='ERROR')
             else:
                 box.prop(settings, "importance_group", text="Group")
+        if settings.importance_source == 'SHAPE_KEYS' and is_mesh and not has_shape_keys(ob):
+            box.label(text=f'"{ob.name}" has no shape keys', icon='ERROR')
         if settings.importance_source == 'ARMATURE':
             box.prop(settings, "importance_strength")
             # Not a density: the rig's sample poses count in the error (addon/importance.py).
@@ -91,6 +95,9 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         row = box.row(align=True)
         row.operator(OBJECT_OT_line_quadric_lod_paint.bl_idname, icon='BRUSH_DATA')
         row.operator(OBJECT_OT_line_quadric_lod_from_armature.bl_idname, icon='ARMATURE_DATA')
+        # Only where it can do something (its poll explains otherwise).
+        if (is_mesh and has_shape_keys(ob)) or settings.importance_source == 'SHAPE_KEYS':
+            box.operator(OBJECT_OT_line_quadric_lod_from_shape_keys.bl_idname, icon='SHAPEKEY_DATA')
         if settings.importance_source not in ('NONE', 'ARMATURE'):  # ARMATURE has no per-vertex g
             box.operator(OBJECT_OT_line_quadric_lod_preview_importance.bl_idname, icon='HIDE_OFF')
 
@@ -141,6 +148,13 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                 # The shading normals' mean angle to the source's (measure.normal_deviation).
                 grid.label(text=f"{level['normal_mean_degrees']:.1f}" if "normal_mean_degrees" in level else "-")
                 grid.label(text=f"{level['mean_quality']:.2f}")
+            for level in rep["levels"]:
+                # Each shape key's deviation (the LOD and the source with the key at 1): the worst.
+                if level.get("shape_keys"):
+                    worst = max(level["shape_keys"], key=lambda entry: entry["hausdorff_percent"])
+                    mean = sum(entry["mean_percent"] for entry in level["shape_keys"]) / len(level["shape_keys"])
+                    box.label(text=f"LOD{level['level']} keys at 1: mean {mean:.4f} %, worst "
+                                   f"\"{worst['name']}\" {worst['hausdorff_percent']:.3f} % max")
             for level in rep["levels"]:
                 if "importance" in level:
                     imp = level["importance"]

@@ -15,7 +15,8 @@ saved files and scripts use, so where the core follows the paper they differ, on
     Uniformity     line_weight             --line-weight             line_weight: the paper's w
                                                                      (per vertex: line_weights, w_i)
     Importance     importance_source/_group --importance-group,      (the painted g in [0, 1] per vertex)
-                                           --from-armature
+                                           --from-armature,
+                                           --from-shape-keys
     Strength       importance_strength     --strength                quadric_scale = F(strength) ** g
                                                                      (Sec. 4.4.1; addon/importance.py)
     Boundaries     preserve_boundaries,    --no-preserve-boundaries, boundary_weight (0 when off)
@@ -25,7 +26,8 @@ saved files and scripts use, so where the core follows the paper they differ, on
     Sharp Edges /  preserve_sharp/_materials, sharp/material_strength   feature_edges with edge_weights
     Material Borders                                                 (the paper's w_ij, Eq. 19)
 
-"Importance" always means g in [0, 1], painted or derived from the skin weights; the core
+"Importance" always means g in [0, 1], painted or derived from the skin weights or the
+shape keys; the core
 never sees it, only the quadric scale it is turned into.
 """
 from __future__ import annotations
@@ -63,6 +65,10 @@ IMPORTANCE_SOURCES = (
     ('ARMATURE_PAPER', "Armature (Paper)",
      "From the skin weights as in the paper (Sec. 5.3): vertices shared by several deform "
      "bones, near joints, are kept denser"),
+    ('SHAPE_KEYS', "Shape Keys",
+     "From the shape keys: vertices the keys move are kept denser, the more the farther "
+     "they move (importance 1 from the largest movements on, fading to 0 where no key "
+     "moves), so expressions and correctives stay close on every LOD"),
 )
 TARGET_KINDS = (
     ('COUNT', "Triangles", "A share of the source's triangles (Ratio) or a triangle count"),
@@ -247,7 +253,7 @@ SETTINGS = (
             cli={"help": "keep every separate part, even where a target cannot be reached otherwise "
                          "(by default the smallest parts, bolts and leaf cards, are deleted then)"},
             core="remove_small_components"),
-    # Importance: g in [0, 1] per vertex, from a vertex group or the skin weights.
+    # Importance: g in [0, 1] per vertex, from a vertex group, the skin weights or the shape keys.
     Setting("importance_source", 'NONE', "Importance", "Where the per-vertex importance comes from",
             items=IMPORTANCE_SOURCES, core="(chooses g)"),
     Setting("importance_group", "", "Group",

@@ -275,8 +275,14 @@ def _shape_keys(s: State, p: Problem, names, X, area):
         key_columns = [key_columns[i] for i in shape_keys.strongest(offsets, area)]
     all_columns = tuple(key_columns + pose_columns)
     offsets = np.stack([X[:, c] for c in all_columns]) * scale
+    key_quadrics = shape_keys.vertex_quadrics(s.V, s.F, offsets)
+    if p.quadric_scale is not None:
+        # Importance scales a vertex's whole error (Sec. 4.4.1): its planes in every key's
+        # shape as at rest, or a region the keys move, where the keys' error sets the cost,
+        # would hardly feel it.
+        key_quadrics *= p.quadric_scale[None, :, None]
     s.keys = KeyOffsets(
-        quadrics=shape_keys.vertex_quadrics(s.V, s.F, offsets),
+        quadrics=key_quadrics,
         columns=all_columns,
         index=np.concatenate([np.arange(c.start, c.stop) for c in all_columns]),
         weights=shape_keys.key_weights(len(key_columns), len(pose_columns), p.options.pose_weight),

@@ -13,8 +13,8 @@ from addon.settings import LodError, LodSettings, flagged
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
 REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",
-                    "--jobs", "--line-weight", "--importance-group", "--from-armature", "--strength",
-                    "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
+                    "--jobs", "--line-weight", "--importance-group", "--from-armature", "--from-shape-keys",
+                    "--strength", "--lod-group", "--quiet", "--sample", "--mode", "--no-preserve-boundaries",
                     "--no-preserve-seams", "--no-preserve-sharp", "--no-preserve-materials", "--min-quality",
                     "--feature-angle", "--keep-small-parts"]
 
@@ -175,7 +175,8 @@ def test_option_round_trip_for_child_processes():
     """--jobs children get the parent's options back from the parsed namespace."""
     parser = arguments.build_parser("test")
     argv = ["--input", "a.obj", "--objects", "A", "B C", "--faces", "900", "90", "--line-weight", "0.0125",
-            "--importance-group", "Paint Me", "--from-armature", "--strength", "0.3", "--mode", "strong",
+            "--importance-group", "Paint Me", "--from-armature", "--from-shape-keys", "--strength", "0.3",
+            "--mode", "strong",
             "--no-preserve-seams", "--no-preserve-materials", "--sharp-strength", "2.5", "--no-modifiers",
             "--lod-group", "--no-measure", "--quiet", "--debug", "--output-dir", "out", "--format", "fbx",
             "--jobs", "3", "--report", "r.json"]
@@ -198,6 +199,30 @@ def test_table_format():
     cells = lines[3].split()
     assert cells[:6] == ["rock.obj", "Rock_LOD1", "LOD1", "999", "1,000", "0.500"]
     assert lines[2].split()[4] == "-"  # LOD0 has no target
+
+
+def test_table_shows_the_worst_shape_key_when_keys_were_measured():
+    keys = [{"name": "Blink", "hausdorff_percent": 0.2, "mean_percent": 0.01},
+            {"name": "Smile", "hausdorff_percent": 0.7, "mean_percent": 0.02}]
+    level = {"level": 1, "name": "Face_LOD1", "target": 1000, "triangles": 999, "hausdorff_percent": 0.5,
+             "mean_percent": 0.01, "mean_quality": 0.8, "min_quality": 0.3, "sliver_percent": 1.25, "seconds": 0.5}
+    source = dict(level, level=0, name="Face_LOD0", target=None, triangles=2000, seconds=0.0)
+    files = [{"label": "face.glb", "objects": [{"levels": [source, dict(level, shape_keys=keys)]},
+                                               {"levels": [dict(source, name="Rock_LOD0"),
+                                                           dict(level, name="Rock_LOD1")]}]}]
+    lines = report.format_table(files).splitlines()
+    assert "Worst key Hausdorff % / mean %" in lines[0]
+    assert "Smile 0.700 / 0.0200" in lines[3] and "Blink" not in lines[3]
+    assert lines[2].split()[7] == "-" and lines[5].split()[7] == "-"  # LOD0, an object without keys
+    without = [{"label": "rock.obj", "objects": [{"levels": [dict(source, name="Rock_LOD0"), dict(level)]}]}]
+    assert "Worst key" not in report.format_table(without)
+
+
+def test_from_shape_keys_is_a_switch():
+    assert parse("--input", "a.obj").from_shape_keys is False
+    assert parse("--input", "a.obj", "--from-shape-keys").from_shape_keys is True
+    args = parse("--input", "a.obj", "--from-shape-keys", "--report", "r.json")
+    assert report.settings_summary(args)["from_shape_keys"] is True
 
 
 def test_from_armature_chooses_the_sample_poses_or_the_papers_mapping():

@@ -14,7 +14,8 @@ import pytest
 import bpy_harness
 from bpy_harness import run_scenario
 
-OPERATORS = ("line_quadric_lod", "line_quadric_lod_paint", "line_quadric_lod_from_armature")
+OPERATORS = ("line_quadric_lod", "line_quadric_lod_paint", "line_quadric_lod_from_armature",
+             "line_quadric_lod_from_shape_keys")
 DEV_ONLY_TOP = ("tests/", "docs/", "bench/", ".ci/", "tools/", ".venv/", ".venvs/", ".blender-user/", "out/", "dist/")
 DEV_ONLY_FILES = ("lod.sh", "requirements-dev.txt", "requirements-peers.txt", "pyproject.toml", ".gitignore")
 

@@ -66,8 +66,9 @@ an Empty "<name>_LODGroup" with the custom property fbx_type = "LodGroup", which
 exporter writes as an FBX LOD group (Unreal: "Import Mesh LODs").
 
 importance: --importance-group NAME is used on every object that has that vertex group,
---from-armature on skinned objects without it; other objects are simplified without
-importance, with a note after the table and in the report.
+--from-armature on skinned objects without it, --from-shape-keys on objects with shape
+keys without either; other objects are simplified without importance, with a note after
+the table and in the report.
 --sample implies --importance-group LOD_Importance --from-armature.
 
 exit status: 0 done, 1 some inputs failed (the others were still done), 2 nothing done
@@ -160,6 +161,10 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "error and the LOD's skin weights are fitted to them, so the LOD bends "
                         "like the source (docs/armature.md); '--from-armature paper' uses the "
                         "paper's importance from the skin weights instead")
+    g.add_argument("--from-shape-keys", action="store_true",
+                   help="on objects with shape keys, Source Shape Keys: the vertices the keys move "
+                        "are kept denser, the more the farther they move (docs/weight-painting.md); "
+                        "each LOD's report then has every key's deviation, measured with the key at 1")
     add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
                       *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 

@@ -19,7 +19,7 @@ from .arguments import lod_settings
 def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
     """One object's report entry: lod.commit()'s report with its source as the level 0
     row, each LOD's own seconds, and the importance it was made with ("NONE",
-    "ARMATURE" or "VERTEX_GROUP:<name>"). An object whose LODs share another's meshes
+    "ARMATURE", "ARMATURE_PAPER", "SHAPE_KEYS" or "VERTEX_GROUP:<name>"). An object whose LODs share another's meshes
     (``shares``: that object, which has the time) has 0 seconds on every row."""
     rep = commit_report
     data = lod_output.input.data
@@ -55,6 +55,7 @@ def settings_summary(args) -> dict:
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
                **({"max_error": chain} if kind == "deviations" else {}),
                importance_group=args.importance_group, from_armature=args.from_armature or False,
+               from_shape_keys=bool(getattr(args, "from_shape_keys", False)),
                lod_group=bool(args.lod_group))
     return out
 
@@ -118,9 +119,22 @@ def _normals_cell(level: dict) -> str:
     return f"{level['normal_mean_degrees']:.2f} / {level['normal_p95_degrees']:.1f}"
 
 
+def _keys_cell(level: dict) -> str:
+    """The shape key the LOD is furthest from (largest Hausdorff with the key at 1,
+    key_deviation.py): its name, Hausdorff % and mean %."""
+    keys = level.get("shape_keys")
+    if not keys:
+        return "-"
+    worst = max(keys, key=lambda entry: entry["hausdorff_percent"])
+    return f"{worst['name']} {worst['hausdorff_percent']:.3f} / {worst['mean_percent']:.4f}"
+
+
 def format_table(files: list) -> str:
-    header = ["File", "Object", "LOD", "Triangles", "Target", "Hausdorff %", "Mean %",
-              "Normals deg mean/p95", "Quality mean/min", "Slivers %", "Seconds"]
+    # The worst shape key's column only when some LOD measured its keys.
+    keys = any(level.get("shape_keys") for f in files for obj in f["objects"] for level in obj["levels"])
+    header = ["File", "Object", "LOD", "Triangles", "Target", "Hausdorff %", "Mean %"]
+    header += ["Worst key Hausdorff % / mean %"] if keys else []
+    header += ["Normals deg mean/p95", "Quality mean/min", "Slivers %", "Seconds"]
     rows = []
     for f in files:
         for obj in f["objects"]:
@@ -130,6 +144,7 @@ def format_table(files: list) -> str:
                     f["label"], level["name"], f"LOD{level['level']}", f"{level['triangles']:,}",
                     _target_cell(level),
                     _fmt(level.get("hausdorff_percent"), ".3f"), _fmt(level.get("mean_percent"), ".4f"),
+                    *([_keys_cell(level)] if keys else []),
                     _normals_cell(level),
                     f"{level['mean_quality']:.3f} / {level['min_quality']:.3f}",
                     f"{level['sliver_percent']:.2f}",
@@ -138,7 +153,8 @@ def format_table(files: list) -> str:
         for level in (f.get("asset") or {}).get("levels", []):
             # The whole asset (addon/asset.py): what it draws, its deviation in % of its size.
             rows.append([f["label"], "(asset)", f"LOD{level['level']}", f"{level['triangles']:,}", "-",
-                         _fmt(level.get("hausdorff_percent"), ".3f"), "-", "-", "-", "-", "-"])
+                         _fmt(level.get("hausdorff_percent"), ".3f"), "-", *(["-"] if keys else []),
+                         "-", "-", "-", "-"])
     if not rows:
         return ""
     widths = [max(len(str(r[i])) for r in rows + [header]) for i in range(len(header))]

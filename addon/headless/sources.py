@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Which objects of an input's scene get LODs, and with which importance.
 
-In a batch of mixed assets only some have the painted group or a rig: an object
-without either is simplified without importance and gets a note, rather than failing
-its input.
+In a batch of mixed assets only some have the painted group, a rig or shape keys: an
+object without what was asked for is simplified without importance and gets a note,
+rather than failing its input.
 """
 from __future__ import annotations
 
@@ -42,7 +42,8 @@ def select_objects(scene, names) -> tuple:
 
 def importance_choice(objects, args) -> list:
     """Per object: (importance_source, group, note or None); the note goes into the
-    report and after the table."""
+    report and after the table. The painted group wins, then the rig (--from-armature),
+    then the shape keys (--from-shape-keys): one source per object."""
     group = args.importance_group
     choices = []
     for ob in objects:
@@ -50,15 +51,24 @@ def importance_choice(objects, args) -> list:
             choices.append(('VERTEX_GROUP', group, None))
         elif args.from_armature and lod.armature_of(ob) is not None:
             choices.append(('ARMATURE_PAPER' if args.from_armature == "paper" else 'ARMATURE', "", None))
+        elif getattr(args, "from_shape_keys", False) and has_shape_keys(ob):
+            choices.append(('SHAPE_KEYS', "", None))
         else:
             wanted = [w for w, on in ((f'no vertex group "{group}"', bool(group)),
-                                      ("not skinned", args.from_armature)) if on]
+                                      ("not skinned", args.from_armature),
+                                      ("no shape keys", getattr(args, "from_shape_keys", False))) if on]
             note = f"no importance ({' and '.join(wanted)})" if wanted else None
             choices.append(('NONE', "", note))
     return choices
 
 
+def has_shape_keys(ob) -> bool:
+    """Whether the mesh object ``ob`` has shape keys besides its basis."""
+    keys = ob.data.shape_keys
+    return keys is not None and len(keys.key_blocks) > 1
+
+
 def importance_label(source: str, group: str) -> str:
-    """How the report names an importance choice: NONE, ARMATURE, ARMATURE_PAPER or
-    VERTEX_GROUP:<group>."""
+    """How the report names an importance choice: NONE, ARMATURE, ARMATURE_PAPER,
+    SHAPE_KEYS or VERTEX_GROUP:<group>."""
     return source if source != 'VERTEX_GROUP' else f"VERTEX_GROUP:{group}"

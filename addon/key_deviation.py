@@ -1,0 +1,112 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Each shape key's deviation: a LOD with the key at 1 against the source with the key at 1.
+
+Every LOD keeps every shape key (their offsets are carried through the collapses, and
+core/shape_keys.py keeps the strongest ones close in the error), but a LOD is measured
+at rest. This measures each key's shape too: for every key, the source and the LOD are
+each moved by what that key does at value 1 (the other keys at 0), and compared as the
+level itself is (measure.surface_deviation: two-sided Hausdorff and mean), in scene
+units and in percent of the *rest* source's bounding-box diagonal, the level's own
+denominator, so a key's numbers read against the level's.
+
+"What the key does at 1" is what Blender shows with that slider at 1 (key_offsets):
+relative keys move each vertex by (key - its relative key) times the key's vertex group
+weight; a key relative to another key (a chain) is measured on its own, not on top of
+that key. Absolute keys (Relative off, mixed by evaluation time) have no value of 1:
+each is measured as its own stored shape.
+
+Cost: two BVH trees and queries per key and level. Up to KEYS_AT_FULL_SAMPLES keys are
+sampled as the level is (deviation_search.report_samples); beyond that the samples are
+shared out so that all keys together cost about as much as KEYS_AT_FULL_SAMPLES levels,
+at least KEY_SAMPLES_MIN per surface. Every vertex of both surfaces is queried on top
+(the Hausdorff distance needs them), so a rig of a hundred keys still costs a hundred
+times the vertices; keys that move nothing on this mesh (a glTF import gives every part
+all of its morph targets) are the rest shape and are measured once.
+
+No bpy here (mathutils only when measuring), so the offsets can be tested without Blender.
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import measure
+from .deviation_search import report_samples
+
+KEYS_AT_FULL_SAMPLES = 4
+KEY_SAMPLES_MIN = 2_000
+
+
+def key_offsets(shape_keys: Sequence, use_relative: bool = True, group_names: Sequence = (),
+                group_weights: Optional[np.ndarray] = None, basis_name: str = "Basis") -> np.ndarray:
+    """(K, n, 3): how far each key moves each vertex at value 1, the others at 0.
+
+    ``shape_keys``: mesh_io.ShapeKeyData-like (name, offsets from the basis, relative_key,
+    vertex_group); ``group_names`` / ``group_weights`` (n, g): the mesh's vertex groups,
+    for keys limited to one. Relative keys: offsets minus their relative key's (a key
+    relative to itself moves nothing, as in Blender), times the group's weights when the
+    key names a group the mesh has. Absolute keys (``use_relative`` False): the stored offsets.
+    """
+    if not shape_keys:
+        return np.zeros((0, 0, 3))
+    stored = np.stack([np.asarray(sk.offsets, dtype=np.float64) for sk in shape_keys])
+    if not use_relative:
+        return stored
+    index = {sk.name: i for i, sk in enumerate(shape_keys)}
+    names = list(group_names)
+    out = stored.copy()
+    for k, sk in enumerate(shape_keys):  # a loop over keys, not vertices
+        rel = sk.relative_key
+        if rel and rel != basis_name and rel in index:
+            out[k] -= stored[index[rel]]
+        if sk.vertex_group and sk.vertex_group in names and group_weights is not None:
+            out[k] *= np.asarray(group_weights, dtype=np.float64)[:, names.index(sk.vertex_group), None]
+    return out
+
+
+def offsets_of(data) -> np.ndarray:
+    """key_offsets of a mesh_io.MeshData (the source or a LOD)."""
+    return key_offsets(data.shape_keys, data.shape_use_relative, data.group_names, data.group_weights,
+                       data.basis_name)
+
+
+def key_samples(triangles: int, keys: int) -> int:
+    """Area samples per surface and key for a surface of ``triangles`` triangles with ``keys`` keys."""
+    share = math.ceil(max(keys, 1) / KEYS_AT_FULL_SAMPLES)
+    return max(KEY_SAMPLES_MIN, report_samples(triangles) // share)
+
+
+def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
+    """[{name, hausdorff, mean, hausdorff_percent, mean_percent}] per shape key of the
+    source ``data``: ``level`` (a LOD of it, carrying the same keys) against ``data``,
+    both with that key at 1. Percent of ``diagonal`` (by default the rest source's
+    bounding-box diagonal). [] when the source has no shape keys."""
+    if not data.shape_keys:
+        return []
+    if diagonal is None:
+        diagonal = measure.bbox_diagonal(data.vertices, data.faces)
+    source, lod = offsets_of(data), offsets_of(level)
+    keys = len(data.shape_keys)
+    samples = (key_samples(len(data.faces), keys), key_samples(len(level.faces), keys))
+    scale = 100.0 / diagonal if diagonal > 0 else float("nan")
+    out = []
+    still = None  # keys that move nothing are the rest shape: measured once
+    for k, sk in enumerate(data.shape_keys):
+        if not source[k].any() and not lod[k].any():
+            if still is None:
+                still = measure.surface_deviation(data.vertices, data.faces, level.vertices, level.faces,
+                                                  n_samples=samples)
+            d = still
+        else:
+            d = measure.surface_deviation(data.vertices + source[k], data.faces, level.vertices + lod[k],
+                                          level.faces, n_samples=samples)
+        out.append({"name": sk.name, "hausdorff": float(d["hausdorff"]), "mean": float(d["mean"]),
+                    "hausdorff_percent": float(d["hausdorff"] * scale), "mean_percent": float(d["mean"] * scale)})
+    return out
+
+
+def worst(keys: list) -> Optional[dict]:
+    """The key entry with the largest Hausdorff distance, or None for no keys."""
+    return max(keys, key=lambda entry: entry["hausdorff"]) if keys else None

@@ -1,0 +1,131 @@
+"""Shape keys (issue 34) through the installed add-on: a sphere (5,120 triangles) whose key
+"Crown" raises a ridged crown on its top cap (z > 0.5) and whose key "Still" moves
+nothing, simplified to 10 % and 5 % with no importance and with Source Shape Keys;
+Importance from Shape Keys; and an object without keys, for the errors
+(tests/test_addon_shape_keys.py checks what this returns)."""
+import importlib
+import json
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+from scene_tools import array, extension_module, remove_all_objects, select_only
+
+CAP = 0.5  # the crown key moves the vertices above this height
+
+
+def keyed_sphere():
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=5, radius=1.0)
+    ob = bpy.context.active_object
+    ob.name = "Ball"
+    co = array(ob.data.vertices, "co", 3).reshape(-1, 3).astype(np.float64)
+    height = np.clip((co[:, 2] - CAP) / (1.0 - CAP), 0.0, 1.0)
+    ridges = 1.0 + 0.5 * np.sin(8.0 * np.arctan2(co[:, 1], co[:, 0]))
+    crown = co * (1.0 + 0.3 * height ** 2 * ridges)[:, None]
+    ob.shape_key_add(name="Basis", from_mix=False)
+    ob.shape_key_add(name="Crown", from_mix=False).data.foreach_set("co", crown.astype(np.float32).ravel())
+    ob.shape_key_add(name="Still", from_mix=False)
+    return ob
+
+
+REPORTS = []  # every generate_lods report, for the panel's Last Run box
+
+
+def lods(ob, source: str, measure: bool = True) -> dict:
+    lod = extension_module("addon.lod")
+    report = lod.generate_lods(bpy.context, ob, lod.LodSettings(
+        ratios=(0.1, 0.05), importance_source=source, measure_deviation=measure))
+    REPORTS.append(report)
+    levels = []
+    for entry in report["levels"]:
+        lod_ob = bpy.data.objects[entry["name"]]
+        co = array(lod_ob.data.vertices, "co", 3).reshape(-1, 3)
+        keys = lod_ob.data.shape_keys
+        levels.append({"entry": entry, "vertices": len(co), "cap_vertices": int(np.count_nonzero(co[:, 2] > CAP)),
+                       "keys": [b.name for b in keys.key_blocks] if keys else []})
+    return {"levels": levels, "warnings": report["warnings"]}
+
+
+def errors(plain) -> dict:
+    """Source Shape Keys on an object without keys: through the API, the operator, the
+    bake's poll, and the command line's choice (a note, not a failure)."""
+    lod = extension_module("addon.lod")
+    out = {}
+    try:
+        lod.generate_lods(bpy.context, plain, lod.LodSettings(ratio=0.5, levels=1, importance_source='SHAPE_KEYS'))
+        out["api"] = None
+    except lod.LodError as ex:
+        out["api"] = str(ex)
+    select_only(plain)
+    try:
+        bpy.ops.object.line_quadric_lod(ratio=0.5, levels=1, importance_source='SHAPE_KEYS')
+        out["operator"] = None
+    except RuntimeError as ex:
+        out["operator"] = str(ex)
+    out["bake_poll"] = bpy.ops.object.line_quadric_lod_from_shape_keys.poll()
+    out["lods_made"] = sorted(ob.name for ob in bpy.data.objects if ob.name.startswith("Plain_LOD"))
+    return out
+
+
+def choices(objects) -> list:
+    sources = extension_module("addon.headless.sources")
+    args = SimpleNamespace(importance_group=None, from_armature=None, from_shape_keys=True)
+    return [list(c) for c in sources.importance_choice(objects, args)]
+
+
+def bake(ob) -> dict:
+    """Importance from Shape Keys: the group it writes against the function it uses."""
+    importance = extension_module("addon.importance")
+    key_deviation = extension_module("addon.key_deviation")
+    mesh_io = extension_module("addon.mesh_io")
+    vertex_groups = extension_module("addon.vertex_groups")
+    select_only(ob)
+    panel = bpy.context.scene.line_quadric_lod
+    panel.importance_source = 'SHAPE_KEYS'
+    poll = bpy.ops.object.line_quadric_lod_from_shape_keys.poll()
+    result = sorted(bpy.ops.object.line_quadric_lod_from_shape_keys())
+    written = vertex_groups.read_weights(ob.data, ["LOD_Importance"])[:, 0]
+    _, use_relative, keys = mesh_io.read_shape_keys(ob.data)
+    expected = importance.shape_key_importance(key_deviation.key_offsets(keys, use_relative))
+    co = array(ob.data.vertices, "co", 3).reshape(-1, 3)
+    return {"poll": poll, "result": result, "source": panel.importance_source, "group": panel.importance_group,
+            "largest_difference": float(np.abs(written - expected).max()),
+            "below_cap_max": float(written[co[:, 2] < CAP - 1e-6].max()), "top": float(written.max())}
+
+
+def panel(ball, plain) -> dict:
+    """What the panel draws (bench/figures/ui_recorder.py, as tests/scenarios/addon_monkey.py
+    records it): {state: [[kind, property or operator, text], ...]}."""
+    ui_recorder = importlib.import_module("bench.figures.ui_recorder")
+    panel_cls = extension_module("addon.panel").VIEW3D_PT_line_quadric_lod
+    settings = bpy.context.scene.line_quadric_lod
+    settings.last_report = json.dumps([REPORTS[1]])  # the Source Shape Keys run
+    out = {}
+    for tag, ob, source in (("ball_none", ball, 'NONE'), ("ball_keys", ball, 'SHAPE_KEYS'),
+                            ("plain_none", plain, 'NONE'), ("plain_keys", plain, 'SHAPE_KEYS')):
+        select_only(ob)
+        settings.importance_source = source
+        root = ui_recorder.record_panel(panel_cls, bpy.context)
+        out[tag] = [[it["kind"], it.get("prop") or it.get("idname"), it["text"]]
+                    for it, _active, _enabled in ui_recorder.walk(root.to_dict())]
+    settings.importance_source = 'NONE'
+    return out
+
+
+def run() -> dict:
+    remove_all_objects()
+    ball = keyed_sphere()
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=1.0, location=(4, 0, 0))
+    plain = bpy.context.active_object
+    plain.name = "Plain"
+    return {
+        "input": {"triangles": len(ball.data.polygons), "vertices": len(ball.data.vertices),
+                  "cap_vertices": int(np.count_nonzero(array(ball.data.vertices, "co", 3).reshape(-1, 3)[:, 2] > CAP))},
+        "none": lods(ball, 'NONE'),
+        "keys": lods(ball, 'SHAPE_KEYS'),
+        "unmeasured": lods(ball, 'SHAPE_KEYS', measure=False),
+        "errors": errors(plain),
+        "choices": choices([ball, plain]),
+        "panel": panel(ball, plain),
+        "bake": bake(ball),
+    }
