@@ -23,7 +23,9 @@ to the regions by the LOD's own (carried) weights. Per group the two directions 
 pooled as the level report pools them (``two_sided``): each direction's samples weigh
 half, so the mean is the mean of the two directional means (with one group holding
 everything: the report's ``mean_percent``), the 95th percentile is that weighted
-distribution's, and the max is the largest sample.
+distribution's, and the max is the largest sample or vertex of the group (the vertices
+of its faces, or painted at least REGION_WEIGHT), as in the Hausdorff distance: the
+largest of the materials' max is the report's ``hausdorff_percent``.
 """
 from __future__ import annotations
 
@@ -107,12 +109,15 @@ def weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> floa
     return float(values[order][min(index, len(values) - 1)])
 
 
-def two_sided(src: np.ndarray, dst: np.ndarray, scale: float = 1.0) -> dict:
+def two_sided(src: np.ndarray, dst: np.ndarray, scale: float = 1.0, vertex_max: Optional[float] = None) -> dict:
     """{mean, p95, max, samples} of the distances of one group's samples, ``src`` on the
     source and ``dst`` on the LOD, pooled as the two-sided report pools them: each
     direction's samples together weigh half (all of it when the other has none), so the
     mean is the mean of the directional means. Distances times ``scale`` (100 / the
-    diagonal gives percent); mean, p95 and max None when there are no samples."""
+    diagonal gives percent); mean, p95 and max None when there are no samples.
+    ``vertex_max``: the largest distance of the group's vertices, which counts in the max
+    as vertices count in the Hausdorff distance (the mean and percentile are the area
+    samples' alone, as the report's mean is)."""
     src = np.asarray(src, dtype=np.float64)
     dst = np.asarray(dst, dtype=np.float64)
     count = len(src) + len(dst)
@@ -123,7 +128,8 @@ def two_sided(src: np.ndarray, dst: np.ndarray, scale: float = 1.0) -> dict:
     weights = np.concatenate([np.full(len(d), w / len(parts)) for d, w in parts])
     return {"mean": float(np.mean([d.mean() for d, _ in parts])) * scale,
             "p95": weighted_quantile(values, weights, PERCENTILE / 100.0) * scale,
-            "max": float(values.max()) * scale, "samples": int(count)}
+            "max": max(float(values.max()), -np.inf if vertex_max is None else vertex_max) * scale,
+            "samples": int(count)}
 
 
 def at_samples(vertex_values: np.ndarray, faces: np.ndarray, triangle: np.ndarray, bary: np.ndarray) -> np.ndarray:
@@ -134,14 +140,32 @@ def at_samples(vertex_values: np.ndarray, faces: np.ndarray, triangle: np.ndarra
     return np.einsum("kj,kj...->k...", np.asarray(bary, dtype=np.float64), corners)
 
 
-def grouped(src_d, src_member, dst_d, dst_member, names, scale: float = 1.0) -> dict:
+def grouped(src_d, src_member, dst_d, dst_member, names, scale: float = 1.0, vertices=None) -> dict:
     """{name: two_sided of the samples that are members}: ``src_member`` (k, g) and
     ``dst_member`` (k', g) say per sample whether it is in each of the g groups ``names``
-    (one sample may be in several, or none)."""
+    (one sample may be in several, or none). ``vertices``: optional (distances (j,),
+    membership (j, g)) of both surfaces' vertices, for each group's max."""
     src_member = np.asarray(src_member, dtype=bool).reshape(len(src_d), len(names))
     dst_member = np.asarray(dst_member, dtype=bool).reshape(len(dst_d), len(names))
-    return {name: two_sided(np.asarray(src_d)[src_member[:, j]], np.asarray(dst_d)[dst_member[:, j]], scale)
-            for j, name in enumerate(names)}  # a loop over groups (materials, regions): a handful
+    if vertices is not None:
+        v_d = np.asarray(vertices[0], dtype=np.float64)
+        v_in = np.asarray(vertices[1], dtype=bool).reshape(len(v_d), len(names))
+        v_max = np.where(v_in, v_d[:, None], -np.inf).max(axis=0, initial=-np.inf)
+    out = {}
+    for j, name in enumerate(names):  # a loop over groups (materials, regions): a handful
+        extra = None if vertices is None or not np.isfinite(v_max[j]) else float(v_max[j])
+        out[name] = two_sided(np.asarray(src_d)[src_member[:, j]], np.asarray(dst_d)[dst_member[:, j]], scale, extra)
+    return out
+
+
+def vertices_in(face_member: np.ndarray, faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(n_vertices, g): whether a vertex is on a face in each group (``face_member`` (m, g))."""
+    face_member = np.asarray(face_member, dtype=bool)
+    out = np.zeros((int(n_vertices), face_member.shape[1]), dtype=bool)
+    faces = np.asarray(faces, dtype=np.int64)
+    for corner in range(3):
+        np.logical_or.at(out, faces[:, corner], face_member)
+    return out
 
 
 def labels_membership(src_labels, dst_labels) -> tuple:
@@ -193,25 +217,35 @@ def level_breakdown(source, level, sampled, material_names: Optional[list], regi
 
     ``source`` and ``level``: MeshData (vertices, faces, material_index, group_weights);
     ``sampled``: measure.Sampled of source (src) against level (dst); ``material_names``:
-    per slot; ``regions``: [(name, column of group_weights)] (region_columns)."""
+    per slot; ``regions``: [(name, column of group_weights)] (region_columns).
+
+    Each group's max also takes its vertices' distances (the vertices of its faces; for a
+    region those whose weight is at least REGION_WEIGHT), as the Hausdorff distance does:
+    the largest max over the materials is the level's Hausdorff distance."""
     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
     src_d, dst_d = sampled.src_distance, sampled.dst_distance
+    src_v, dst_v = np.asarray(sampled.src_vertices), np.asarray(sampled.dst_vertices)
+    vertex_d = np.concatenate([sampled.src_vertex_distance, sampled.dst_vertex_distance])
     out = {}
     if material_names:
-        names, src_in, dst_in = labels_membership(
-            material_labels(source.material_index, material_names)[sampled.src_triangle],
-            material_labels(level.material_index, material_names)[sampled.dst_triangle])
-        out["materials"] = {name: _percent(s) for name, s in grouped(src_d, src_in, dst_d, dst_in, names,
-                                                                     scale).items()}
+        names, src_faces, dst_faces = labels_membership(material_labels(source.material_index, material_names),
+                                                        material_labels(level.material_index, material_names))
+        vertex_in = np.concatenate([vertices_in(src_faces, source.faces, len(source.vertices))[src_v],
+                                    vertices_in(dst_faces, level.faces, len(level.vertices))[dst_v]])
+        stats = grouped(src_d, src_faces[sampled.src_triangle], dst_d, dst_faces[sampled.dst_triangle], names,
+                        scale, (vertex_d, vertex_in))
+        out["materials"] = {name: _percent(s) for name, s in stats.items() if s["samples"]}
     if regions:
         columns = [j for _, j in regions]
-        src_w = at_samples(np.asarray(source.group_weights)[:, columns], source.faces, sampled.src_triangle,
-                           sampled.src_bary).reshape(len(src_d), len(columns))
-        dst_w = at_samples(np.asarray(level.group_weights)[:, columns], level.faces, sampled.dst_triangle,
-                           sampled.dst_bary).reshape(len(dst_d), len(columns))
+        src_w = np.asarray(source.group_weights, dtype=np.float64)[:, columns]
+        dst_w = np.asarray(level.group_weights, dtype=np.float64)[:, columns]
         # (the tolerance: a weight painted at exactly 0.5 interpolates to 0.5 give or take a rounding)
         threshold = REGION_WEIGHT - 1e-9
-        stats = grouped(src_d, src_w >= threshold, dst_d, dst_w >= threshold, [n for n, _ in regions], scale)
+        at_src = at_samples(src_w, source.faces, sampled.src_triangle, sampled.src_bary).reshape(len(src_d), -1)
+        at_dst = at_samples(dst_w, level.faces, sampled.dst_triangle, sampled.dst_bary).reshape(len(dst_d), -1)
+        vertex_in = np.concatenate([src_w[src_v], dst_w[dst_v]]) >= threshold
+        stats = grouped(src_d, at_src >= threshold, dst_d, at_dst >= threshold, [n for n, _ in regions], scale,
+                        (vertex_d, vertex_in))
         out["regions"] = {name: _percent(s) for name, s in stats.items()}
     return out
 

@@ -129,6 +129,28 @@ def test_level_breakdown_sorts_samples_by_material_and_interpolated_weight():
     assert ld.level_breakdown(source, level, sampled, [], [], 200.0) == {}, "nothing to break down"
 
 
+def test_the_vertices_count_in_each_groups_max_as_in_the_hausdorff_distance():
+    v, f_src, f_lod = _quad_pair()
+    weights = np.array([[0.0], [0.0], [1.0], [0.0]])
+    source = SimpleNamespace(vertices=v, faces=f_src, material_index=np.array([0, 1]), group_weights=weights)
+    level = SimpleNamespace(vertices=v, faces=f_lod, material_index=np.array([0, 0]), group_weights=weights)
+    sampled = Sampled(np.array([0, 1]), np.full((2, 3), 1 / 3), np.array([1.0, 2.0]), np.zeros(2, int),
+                      np.full((2, 3), 1 / 3), np.arange(4), np.array([0.0, 0.0, 0.0, 7.0]),
+                      np.array([0]), np.array([[0.0, 0.0, 1.0]]), np.array([3.0]), np.zeros(1, int),
+                      np.full((1, 3), 1 / 3), np.arange(4), np.array([0.0, 0.0, 9.0, 0.0]))
+    out = ld.level_breakdown(source, level, sampled, ["Red", "Blue"], [("Paint", 0)], diagonal=100.0)
+    # Source vertex 3 (7.0) is on the Blue triangle 0-2-3 only; LOD vertex 2 (9.0) on LOD
+    # triangle 1-2-3, which is Red (the LOD is all Red): Red's max is 9, Blue's 7.
+    assert out["materials"]["Red"]["max_percent"] == 9.0
+    assert out["materials"]["Blue"]["max_percent"] == 7.0
+    # The means are the area samples' alone: Red 1 (source) and 3 (LOD), Blue 2.
+    assert (out["materials"]["Red"]["mean_percent"], out["materials"]["Blue"]["mean_percent"]) == (2.0, 2.0)
+    # Painted: vertex 2 of either surface (9.0 on the LOD); samples: none of the source's
+    # centroids (1/3), the LOD sample on its vertex 3 (3.0, weight 0) neither.
+    assert out["regions"]["Paint"]["samples"] == 0 and out["regions"]["Paint"]["max_percent"] is None
+    assert max(m["max_percent"] for m in out["materials"].values()) == 9.0, "the Hausdorff distance"
+
+
 def test_a_region_nothing_samples_is_listed_empty():
     v, f_src, f_lod = _quad_pair()
     source = SimpleNamespace(vertices=v, faces=f_src, material_index=np.zeros(2, int), group_weights=np.zeros((4, 1)))
