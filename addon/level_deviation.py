@@ -168,28 +168,20 @@ def vertices_in(face_member: np.ndarray, faces: np.ndarray, n_vertices: int) -> 
     return out
 
 
-def labels_membership(src_labels, dst_labels) -> tuple:
-    """(names in order of first appearance over src then dst, src (k, g), dst (k', g)
-    membership) of two arrays of labels (one label per sample)."""
-    src_labels = np.asarray(src_labels, dtype=object)
-    dst_labels = np.asarray(dst_labels, dtype=object)
-    every = np.concatenate([src_labels, dst_labels])
-    names, first = np.unique(every.astype(str), return_index=True)
-    names = [str(every[i]) for i in sorted(first)]
-    index = {name: j for j, name in enumerate(names)}
-    lookup = np.vectorize(index.__getitem__, otypes=[np.int64])
-    src_j = lookup(src_labels.astype(str)) if len(src_labels) else np.empty(0, np.int64)
-    dst_j = lookup(dst_labels.astype(str)) if len(dst_labels) else np.empty(0, np.int64)
-    g = np.arange(len(names))
-    return names, src_j[:, None] == g, dst_j[:, None] == g
-
-
-def material_labels(material_index: np.ndarray, material_names: list) -> np.ndarray:
-    """(m,) the name of each triangle's material (object array): ``material_names`` per
-    slot (None for an empty slot); an empty slot or an index past the slots is NO_MATERIAL."""
-    names = np.array([n if n else NO_MATERIAL for n in material_names] + [NO_MATERIAL], dtype=object)
+def material_groups(material_index: np.ndarray, material_names: list) -> tuple:
+    """(material names, each once in slot order, and (m,) each triangle's index into
+    them): ``material_names`` per slot (None for an empty slot); slots of the same
+    material are one, an empty slot or an index past the slots is NO_MATERIAL."""
+    labels = [name if name else NO_MATERIAL for name in material_names] + [NO_MATERIAL]
+    names = list(dict.fromkeys(labels))
+    slot_group = np.array([names.index(label) for label in labels], dtype=np.int64)  # a handful of slots
     index = np.asarray(material_index, dtype=np.int64)
-    return names[np.where((index >= 0) & (index < len(material_names)), index, len(material_names))]
+    return names, slot_group[np.where((index >= 0) & (index < len(material_names)), index, len(material_names))]
+
+
+def membership(group: np.ndarray, groups: int) -> np.ndarray:
+    """(k, groups) bool from (k,) group indices."""
+    return np.asarray(group, dtype=np.int64)[:, None] == np.arange(groups)
 
 
 def region_columns(group_names: list, skin_columns, importance_group: Optional[str] = None) -> list:
@@ -228,8 +220,9 @@ def level_breakdown(source, level, sampled, material_names: Optional[list], regi
     vertex_d = np.concatenate([sampled.src_vertex_distance, sampled.dst_vertex_distance])
     out = {}
     if material_names:
-        names, src_faces, dst_faces = labels_membership(material_labels(source.material_index, material_names),
-                                                        material_labels(level.material_index, material_names))
+        names, src_group = material_groups(source.material_index, material_names)
+        _, dst_group = material_groups(level.material_index, material_names)
+        src_faces, dst_faces = membership(src_group, len(names)), membership(dst_group, len(names))
         vertex_in = np.concatenate([vertices_in(src_faces, source.faces, len(source.vertices))[src_v],
                                     vertices_in(dst_faces, level.faces, len(level.vertices))[dst_v]])
         stats = grouped(src_d, src_faces[sampled.src_triangle], dst_d, dst_faces[sampled.dst_triangle], names,

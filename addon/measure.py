@@ -70,10 +70,11 @@ class Sampled:
 
     Per direction (src_: src's points measured against dst; dst_: dst's against src),
     for each area-uniform sample: ``triangle`` (k,) of its own surface it lies on and its
-    ``bary`` (k, 3) coordinates there, its ``distance`` (k,) to the other surface, the
-    triangle of the other surface its closest point is on (``nearest`` (k,)) and that
-    point's coordinates there (``nearest_bary`` (k, 3)); and for the surface's
-    ``vertices`` (j,) (the ids of those a face uses) their ``vertex_distance`` (j,).
+    ``bary`` (k, 3) coordinates there, its ``distance`` (k,) to the other surface; and for
+    the surface's ``vertices`` (j,) (the ids of those a face uses) their
+    ``vertex_distance`` (j,). For src's samples also the triangle of dst their closest
+    point is on (``src_nearest`` (k,)) and that point's coordinates there
+    (``src_nearest_bary`` (k, 3)).
     """
 
     src_triangle: np.ndarray
@@ -86,8 +87,6 @@ class Sampled:
     dst_triangle: np.ndarray
     dst_bary: np.ndarray
     dst_distance: np.ndarray
-    dst_nearest: np.ndarray
-    dst_nearest_bary: np.ndarray
     dst_vertices: np.ndarray
     dst_vertex_distance: np.ndarray
 
@@ -225,24 +224,26 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
 def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None) -> tuple:
     """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
     surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
-    normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices,
-    faces, a dict): the dict gets the per-point results (Sampled's fields without their
-    src_/dst_ prefix)."""
+    normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
+    and faces, or None when the closest points are not wanted, and a dict): the dict gets
+    the per-point results (Sampled's fields without their src_/dst_ prefix)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
     used = np.unique(f_a)
     verts = v_a[used]
-    if shading is None and keep is None:
+    if shading is None and (keep is None or keep[0] is None):
         d_samples, angles = _distances(tree_b, samples), None
     else:
         d_samples, nearest = _distances(tree_b, samples, with_faces=True)
-        v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[:2]
+        v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
         at = _closest_bary(samples, nearest, v_b, f_b)
         angles = None if shading is None else _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
-        if keep is not None:
-            keep[2].update(triangle=tri, bary=bary, distance=d_samples, nearest=nearest, nearest_bary=at)
+        if keep is not None and keep[0] is not None:
+            keep[1].update(nearest=nearest, nearest_bary=at)
+    if keep is not None:
+        keep[1].update(triangle=tri, bary=bary, distance=d_samples)
     d_verts = _distances(tree_b, verts)
     if keep is not None:
-        keep[2].update(vertices=used, vertex_distance=d_verts)
+        keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
     mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
@@ -322,10 +323,10 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
 
     kept = ({}, {}) if keep_samples else None
     h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
-                                               shading, kept and (vd, fd, kept[0]))
+                                               shading, kept and ((vd, fd), kept[0]))
     t1 = time.perf_counter()
     h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
-                                          keep=kept and (vs, fs, kept[1]))
+                                          keep=kept and (None, kept[1]))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)

@@ -72,14 +72,11 @@ def test_groups_of_a_partition_cover_the_whole(src, dst, data):
     assert whole == ld.two_sided(src, dst)
 
 
-def test_material_labels_merge_slots_and_name_the_empty_ones():
-    names = ["Red", None, "Red", "Blue"]
-    labels = ld.material_labels(np.array([0, 1, 2, 3, 7, -1]), names)
-    assert list(labels) == ["Red", ld.NO_MATERIAL, "Red", "Blue", ld.NO_MATERIAL, ld.NO_MATERIAL]
-    order, src_in, dst_in = ld.labels_membership(labels[:3], labels[3:])
-    assert order == ["Red", ld.NO_MATERIAL, "Blue"]
-    assert src_in.tolist() == [[True, False, False], [False, True, False], [True, False, False]]
-    assert dst_in.tolist() == [[False, False, True], [False, True, False], [False, True, False]]
+def test_material_groups_merge_slots_and_name_the_empty_ones():
+    names, group = ld.material_groups(np.array([0, 1, 2, 3, 7, -1]), ["Red", None, "Red", "Blue"])
+    assert names == ["Red", ld.NO_MATERIAL, "Blue"]
+    assert group.tolist() == [0, 1, 0, 2, 1, 1]
+    assert ld.membership(group[:3], 3).tolist() == [[True, False, False], [False, True, False], [True, False, False]]
 
 
 def test_regions_are_the_painted_groups_not_the_skin_or_the_preview():
@@ -113,8 +110,7 @@ def test_level_breakdown_sorts_samples_by_material_and_interpolated_weight():
         src_vertices=np.arange(4), src_vertex_distance=np.zeros(4),
         # LOD samples: both on material 1.
         dst_triangle=np.array([0, 1]), dst_bary=np.array([[1.0, 0, 0], [0, 1.0, 0]]),
-        dst_distance=np.array([3.0, 6.0]), dst_nearest=np.zeros(2, int), dst_nearest_bary=np.full((2, 3), 1 / 3),
-        dst_vertices=np.arange(4), dst_vertex_distance=np.zeros(4))
+        dst_distance=np.array([3.0, 6.0]), dst_vertices=np.arange(4), dst_vertex_distance=np.zeros(4))
     out = ld.level_breakdown(source, level, sampled, ["Red", "Blue"], [("Paint", 0)], diagonal=200.0)
     assert set(out) == {"materials", "regions"}
     red, blue = out["materials"]["Red"], out["materials"]["Blue"]
@@ -136,8 +132,8 @@ def test_the_vertices_count_in_each_groups_max_as_in_the_hausdorff_distance():
     level = SimpleNamespace(vertices=v, faces=f_lod, material_index=np.array([0, 0]), group_weights=weights)
     sampled = Sampled(np.array([0, 1]), np.full((2, 3), 1 / 3), np.array([1.0, 2.0]), np.zeros(2, int),
                       np.full((2, 3), 1 / 3), np.arange(4), np.array([0.0, 0.0, 0.0, 7.0]),
-                      np.array([0]), np.array([[0.0, 0.0, 1.0]]), np.array([3.0]), np.zeros(1, int),
-                      np.full((1, 3), 1 / 3), np.arange(4), np.array([0.0, 0.0, 9.0, 0.0]))
+                      np.array([0]), np.array([[0.0, 0.0, 1.0]]), np.array([3.0]), np.arange(4),
+                      np.array([0.0, 0.0, 9.0, 0.0]))
     out = ld.level_breakdown(source, level, sampled, ["Red", "Blue"], [("Paint", 0)], diagonal=100.0)
     # Source vertex 3 (7.0) is on the Blue triangle 0-2-3 only; LOD vertex 2 (9.0) on LOD
     # triangle 1-2-3, which is Red (the LOD is all Red): Red's max is 9, Blue's 7.
@@ -156,7 +152,7 @@ def test_a_region_nothing_samples_is_listed_empty():
     source = SimpleNamespace(vertices=v, faces=f_src, material_index=np.zeros(2, int), group_weights=np.zeros((4, 1)))
     sampled = Sampled(np.array([0]), np.array([[1.0, 0, 0]]), np.array([1.0]), np.zeros(1, int), np.ones((1, 3)) / 3,
                       np.arange(4), np.zeros(4), np.array([0]), np.array([[1.0, 0, 0]]), np.array([1.0]),
-                      np.zeros(1, int), np.ones((1, 3)) / 3, np.arange(4), np.zeros(4))
+                      np.arange(4), np.zeros(4))
     out = ld.level_breakdown(source, source, sampled, None, [("Empty", 0)], 1.0)
     assert out == {"regions": {"Empty": {"mean_percent": None, "p95_percent": None, "max_percent": None,
                                          "samples": 0}}}
