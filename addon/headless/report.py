@@ -153,7 +153,8 @@ def posed_lines(files: list) -> list:
                 if not posed:
                     continue
                 if posed.get("frames"):
-                    actions = ", ".join(a["name"] for a in posed["actions"])
+                    names = [a["name"] for a in posed["actions"]]
+                    actions = ", ".join(names) if len(names) <= 3 else f"{len(names)} actions"
                     h, m = posed["hausdorff_percent"], posed["mean_percent"]
                     lines.append(f"posed: {f['label']}: {level['name']}: {posed['frames']} frames of {actions}: "
                                  f"Hausdorff mean {h['mean']:.3f} % max {h['max']:.3f} %, "
