@@ -299,6 +299,41 @@ def measure_level(lod_input, level, report: dict) -> tuple:
     return level, entry
 
 
+def share_scales(chains: list) -> None:
+    """One heat scale per level for the parts of an asset (a bolt's own largest distance
+    is not red while the hull is further off): each level's heat map, on every part that
+    has one, is coloured again from 0 to the largest distance, in scene units, of that
+    level over all the parts; its report entry says so (``shared``: "asset").
+
+    chains: [(lod.LodOutput, unit)], each output once (objects sharing its meshes share
+    its colours), ``unit`` the scene units per unit of its object (asset.world_scale)."""
+    largest = {}
+    for out, unit in chains:
+        for k, level in enumerate(out.levels):
+            if SCALE_PROPERTY in level.mesh_properties:
+                largest[k] = max(largest.get(k, 0.0), float(level.mesh_properties[SCALE_PROPERTY]) * unit)
+    for out, unit in chains:
+        diagonal = None
+        done = set()
+        for k, (level, entry) in enumerate(zip(out.levels, out.reports)):
+            if k not in largest or DISTANCE_ATTRIBUTE not in level.point_floats or unit <= 0:
+                continue
+            scale = largest[k] / unit
+            if id(level) not in done:  # (a level repeated in the chain is one mesh)
+                done.add(id(level))
+                colors = heat_colors(level.point_floats[DISTANCE_ATTRIBUTE], scale)
+                level.colors[:] = [layer if layer.name != HEAT_ATTRIBUTE else
+                                   type(layer)(layer.name, layer.domain, layer.data_type, colors)
+                                   for layer in level.colors]
+                level.mesh_properties[SCALE_PROPERTY] = scale
+            if diagonal is None:
+                v, f = out.input.data.vertices, out.input.data.faces
+                used = np.asarray(v)[np.unique(f)]
+                diagonal = float(np.linalg.norm(used.max(0) - used.min(0)))
+            entry.get("deviation_colors", {}).update(
+                scale=scale, scale_percent=scale * 100.0 / diagonal if diagonal > 0 else None, shared="asset")
+
+
 def measure_diagonal(report: dict) -> float:
     """The diagonal a measurement's percentages are of (measure.surface_deviation's)."""
     return float(report.get("diagonal") or 0.0)

@@ -95,6 +95,20 @@ def test_show_deviation_paints_a_lod_without_it_and_switches_the_view(colors):
     assert all(s == ["MATERIAL", "TEXTURE"] for s in colors["after_back"]), colors["after_back"]
 
 
+def test_the_parts_of_an_asset_share_each_levels_scale(colors):
+    assert colors["asset_generate"] == ["FINISHED"]
+    bump, ball = colors["asset"]
+    for a, b in zip(bump, ball):
+        assert a["shared"] == b["shared"] == "asset"
+        assert a["world_scale"] == pytest.approx(b["world_scale"], rel=1e-6), (a, b)
+        for part in (a, b):
+            assert part["mesh_scale"] == pytest.approx(part["world_scale"] / (2.0 if part is b else 1.0), rel=1e-6)
+            assert part["own_max"] <= part["mesh_scale"] * (1 + 1e-6)
+    # Red is the level's largest over both parts: one of them reaches it.
+    for a, b in zip(bump, ball):
+        assert max(a["own_max"] / a["mesh_scale"], b["own_max"] / b["mesh_scale"]) == pytest.approx(1.0, rel=1e-5)
+
+
 def test_the_source_is_untouched_and_the_default_writes_no_colours(colors):
     assert colors["source_changed_by_view"] == {}
     assert colors["source_changed"] == {}

@@ -9,7 +9,9 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from addon import level_deviation as ld
+from addon.headless import report
 from addon.measure import Sampled
+from addon.mesh_data import MeshData
 
 distances = hnp.arrays(np.float64, st.integers(0, 60), elements=st.floats(0.0, 10.0, allow_subnormal=False))
 
@@ -219,3 +221,60 @@ def test_the_module_needs_no_blender():
 
     code = "import sys; import addon.level_deviation, addon.mesh_data; assert 'bpy' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, check=True, timeout=60)
+
+
+def _part(distances_per_level, diagonal_size):
+    """A fake LodOutput of one part: per level a triangle carrying the heat map of its
+    vertex distances (as with_heat leaves it), and report entries saying so."""
+    v = np.array([[0, 0, 0], [diagonal_size, 0, 0], [0, 0, 0.0]])
+    f = np.array([[0, 1, 2]])
+    levels, reports = [], []
+    for d in distances_per_level:
+        level = MeshData(vertices=v, faces=f, material_index=np.zeros(1, int), smooth=np.zeros(1, bool),
+                         smooth_group=np.zeros(1, int))
+        sampled = SimpleNamespace(dst_vertices=np.arange(3), dst_vertex_distance=np.array(d, float),
+                                  src_nearest=np.zeros(0, int), src_nearest_bary=np.zeros((0, 3)),
+                                  src_distance=np.zeros(0))
+        levels.append(ld.with_heat(level, sampled))
+        reports.append({"deviation_colors": {"scale": max(d), "scale_percent": 100.0 * max(d) / diagonal_size}})
+    return SimpleNamespace(levels=levels, reports=reports, input=SimpleNamespace(data=SimpleNamespace(vertices=v,
+                                                                                                       faces=f)))
+
+
+def test_the_parts_of_an_asset_share_each_levels_scale():
+    """The hull (unit 1) is 4 off at LOD1, the bolt (its object scaled 2x) 1 in its units:
+    LOD1 is red at 4 scene units on both, so the bolt's 1 (2 scene units) is green."""
+    hull, bolt = _part([[0, 2, 4], [0, 8, 8]], 10.0), _part([[0, 0, 1], [0, 0, 5]], 10.0)
+    ld.share_scales([(hull, 1.0), (bolt, 2.0)])
+    assert hull.levels[0].mesh_properties[ld.SCALE_PROPERTY] == 4.0
+    assert bolt.levels[0].mesh_properties[ld.SCALE_PROPERTY] == 2.0, "4 scene units in the bolt's own"
+    bolt_colors = next(c for c in bolt.levels[0].colors if c.name == ld.HEAT_ATTRIBUTE).data
+    assert bolt_colors[:, :3].tolist() == [[0, 0, 1], [0, 0, 1], [0, 1, 0]]
+    # LOD2: the bolt's 5 (10 scene units) is the largest; the hull's 8 is not red.
+    assert (hull.levels[1].mesh_properties[ld.SCALE_PROPERTY], bolt.levels[1].mesh_properties[ld.SCALE_PROPERTY]) \
+        == (10.0, 5.0)
+    assert bolt.reports[1]["deviation_colors"] == {"scale": 5.0, "scale_percent": 50.0, "shared": "asset"}
+    assert hull.reports[0]["deviation_colors"]["scale_percent"] == 40.0
+
+
+def test_the_command_line_prints_the_breakdown_and_the_posed_distance():
+    stats = {"mean_percent": 0.01, "p95_percent": 0.05, "max_percent": 0.2, "samples": 1200}
+    level = {"level": 1, "name": "Bump_LOD1", "materials": {"Flat": stats, "Bumpy": stats},
+             "regions": {"Hill": stats, "Unused": {"mean_percent": None, "p95_percent": None, "max_percent": None,
+                                                   "samples": 0}},
+             "posed": {"frames": 8, "actions": [{"name": "Bend", "frames": [1, 2]}],
+                       "hausdorff_percent": {"mean": 1.0, "max": 2.0}, "mean_percent": {"mean": 0.1, "max": 0.2}}}
+    one_material = {"level": 1, "name": "Rock_LOD1", "materials": {"Stone": stats},
+                    "posed": {"frames": 0, "actions": [], "note": "no actions"}}
+    files = [{"label": "bump.blend", "objects": [{"object": "Bump", "levels": [level]},
+                                                 {"object": "Rock", "levels": [one_material]}]}]
+    lines = report.format_breakdown(files).splitlines()
+    assert lines[0].split() == ["File", "Object", "LOD", "Per", "Name", "Mean", "%", "P95", "%", "Max", "%", "Samples"]
+    rows = [line.split() for line in lines[2:]]
+    assert [r[3:5] for r in rows] == [["material", "Flat"], ["material", "Bumpy"], ["region", "Hill"],
+                                      ["region", "Unused"]], "one material alone is the level's own row"
+    assert rows[0][5:] == ["0.0100", "0.0500", "0.200", "1,200"] and rows[3][5:] == ["-", "-", "-", "0"]
+    assert report.posed_lines(files) == [
+        "posed: bump.blend: Bump_LOD1: 8 frames of Bend: Hausdorff mean 1.000 % max 2.000 %, "
+        "mean distance mean 0.1000 % max 0.2000 %",
+        "posed: bump.blend: Rock: no actions"]

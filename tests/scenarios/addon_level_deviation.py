@@ -160,6 +160,17 @@ def run_colors() -> dict:
     result["default_heat"] = heat_of(plain_lod.data)["color"]
     result["default_breakdown"] = sorted(k for k in ("materials", "regions", "deviation_colors")
                                          if k in plain_rep["levels"][0])
+    # Two objects are one asset: a level's heat maps share one scale in scene units.
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(3, 0, 0))
+    ball = bpy.context.active_object
+    ball.scale = (2.0, 2.0, 2.0)
+    select_only(ob, ball)
+    result["asset_generate"] = sorted(bpy.ops.object.line_quadric_lod(ratio=0.05, levels=2, deviation_colors=True))
+    reps = json.loads(bpy.context.scene.line_quadric_lod.last_report)
+    result["asset"] = [[{"world_scale": lv["deviation_colors"]["scale"] * max(bpy.data.objects[lv["name"]].scale),
+                         "mesh_scale": bpy.data.objects[lv["name"]].data[ld.SCALE_PROPERTY],
+                         "own_max": float(heat_of(bpy.data.objects[lv["name"]].data)["d"].max()),
+                         "shared": lv["deviation_colors"].get("shared")} for lv in r["levels"]] for r in reps]
     result["source_changed"] = {k: [before[k], v] for k, v in state(ob).items() if before[k] != v}
     return result
 
