@@ -33,8 +33,10 @@ from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
 from . import key_deviation
+from . import level_deviation
 from . import measure
 from . import mesh_io
+from . import posed_deviation
 from . import skin_fit
 from . import switch_distances
 from . import vertex_groups
@@ -96,6 +98,9 @@ class LodInput:
     # bounding-box diagonal; None: the mesh's own).
     in_asset: bool = False
     reference_diagonal: Optional[float] = None
+    # The source's material per slot (None: an empty slot), for the report's breakdown
+    # per material (addon/level_deviation.py).
+    material_names: list = field(default_factory=list)
 
 
 @dataclass
@@ -368,7 +373,8 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
                     deviations=deviations, poses=poses, check_poses=check_poses, in_asset=asset is not None,
-                    reference_diagonal=reference)
+                    reference_diagonal=reference,
+                    material_names=[s.material.name if s.material else None for s in source.material_slots])
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -512,7 +518,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     (LodCancelled). Simplification is the first SIMPLIFY_SHARE, the deviation report the rest.
     """
     t0 = time.perf_counter()
-    measuring = lod_input.settings.measure_deviation
+    measuring = lod_input.settings.measuring()
     simplify_share = progress_share(measuring or lod_input.deviations is not None)
 
     def report_progress(fraction):
@@ -576,6 +582,9 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         if measuring or requested[k - 1] is not None:
             rep = _level_report(data, levels[-1], measured.get(id(result)))
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
+            # Per material and painted region, and the heat map when asked for.
+            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep)
+            entry.update(more)
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
         if measuring and data.shape_keys:
@@ -827,6 +836,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
                 _replace_lod(old)
     asset_switch = switch
     reports = []
+    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal)
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _lod_collection(scene, source)
@@ -878,7 +888,16 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
         }
         if leader is not None:
             rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
+        elif out.input.settings.measuring() and armature_of(source) is not None:
+            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces)))
         reports.append(rep)
+    if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
+        try:
+            posed_deviation.measure_chains(scene, lambda: _scene_and_depsgraph(context_or_scene)[1], posed)
+        except Exception as ex:  # the LODs are made: a failed extra measurement is a note
+            for source, _, _, _ in posed:
+                next(r for r in reports if r["object"] == source.name)["warnings"].append(
+                    f"the posed distance was not measured ({type(ex).__name__}: {ex})")
     return reports
 
 
@@ -895,6 +914,10 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                shape_keys (measured, with shape keys: per key {name, hausdorff, mean,
                hausdorff_percent, mean_percent}, the LOD and the source each with that
                key at 1; key_deviation.py),
+               measured: materials, regions ({name: {mean_percent, p95_percent,
+               max_percent, samples}}), deviation_colors (with Deviation Colors), posed
+               (skinned: over the armature's actions; addon/level_deviation.py,
+               addon/posed_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
      switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import time
 import zlib
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -60,6 +61,34 @@ DEFAULT_SAMPLES = 500_000  # area-uniform samples per surface (vertices come on 
 _PILOT_POINTS = 2000
 _PILOT_QUANTILE = 0.99
 _RADIUS_FACTOR = 2.0
+
+
+@dataclass
+class Sampled:
+    """What surface_deviation(keep_samples=True) measured point by point, for reports that
+    break the distance down (addon/level_deviation.py) without querying again.
+
+    Per direction (src_: src's points measured against dst; dst_: dst's against src),
+    for each area-uniform sample: ``triangle`` (k,) of its own surface it lies on and its
+    ``bary`` (k, 3) coordinates there, its ``distance`` (k,) to the other surface; and for
+    the surface's ``vertices`` (j,) (the ids of those a face uses) their
+    ``vertex_distance`` (j,). For src's samples also the triangle of dst their closest
+    point is on (``src_nearest`` (k,)) and that point's coordinates there
+    (``src_nearest_bary`` (k, 3)).
+    """
+
+    src_triangle: np.ndarray
+    src_bary: np.ndarray
+    src_distance: np.ndarray
+    src_nearest: np.ndarray
+    src_nearest_bary: np.ndarray
+    src_vertices: np.ndarray
+    src_vertex_distance: np.ndarray
+    dst_triangle: np.ndarray
+    dst_bary: np.ndarray
+    dst_distance: np.ndarray
+    dst_vertices: np.ndarray
+    dst_vertex_distance: np.ndarray
 
 
 def _as_mesh(vertices, faces, what: str):
@@ -192,18 +221,29 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
     return DEFAULT_SAMPLES
 
 
-def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None) -> tuple:
-    """(Hausdorff, mean, query points) from surface a to the tree of surface b; with
-    ``shading`` = (a's corner normals, b's vertices, faces and corner normals) also the
-    normal angles at a's area samples (else None)."""
+def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None) -> tuple:
+    """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
+    surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
+    normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
+    and faces, or None when the closest points are not wanted, and a dict): the dict gets
+    the per-point results (Sampled's fields without their src_/dst_ prefix)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
-    verts = v_a[np.unique(f_a)]
-    if shading is None:
+    used = np.unique(f_a)
+    verts = v_a[used]
+    if shading is None and (keep is None or keep[0] is None):
         d_samples, angles = _distances(tree_b, samples), None
     else:
         d_samples, nearest = _distances(tree_b, samples, with_faces=True)
-        angles = _normal_angles(samples, tri, bary, nearest, *shading)
+        v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
+        at = _closest_bary(samples, nearest, v_b, f_b)
+        angles = None if shading is None else _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
+        if keep is not None and keep[0] is not None:
+            keep[1].update(nearest=nearest, nearest_bary=at)
+    if keep is not None:
+        keep[1].update(triangle=tri, bary=bary, distance=d_samples)
     d_verts = _distances(tree_b, verts)
+    if keep is not None:
+        keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
     mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
@@ -220,14 +260,21 @@ def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
     return n
 
 
-def _normal_angles(samples, tri, bary, nearest, normals_a, v_b, f_b, normals_b) -> np.ndarray:
+def _closest_bary(points, nearest, v_b, f_b) -> np.ndarray:
+    """(k, 3) barycentric coordinates of each point's closest point on b's triangle ``nearest``."""
+    from ._core import core
+
+    on_b = f_b[nearest]
+    at, _ = core.geometry.closest_on_triangles(points, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
+    return at
+
+
+def _normal_angles(tri, bary, nearest, at, normals_a, normals_b) -> np.ndarray:
     """Degrees between a's shading normal at each sample (triangle ``tri``, barycentric
-    ``bary``) and b's at the closest point on b's triangle ``nearest``."""
+    ``bary``) and b's at the closest point (barycentric ``at``) on b's triangle ``nearest``."""
     from ._core import core
 
     shading = core.shading
-    on_b = f_b[nearest]
-    at, _ = core.geometry.closest_on_triangles(samples, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
     return shading.angles_degrees(shading.interpolate(normals_a, tri, bary),
                                   shading.interpolate(normals_b, nearest, at))
 
@@ -241,7 +288,8 @@ def _normal_keys(angles: np.ndarray) -> dict:
 
 
 def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
-                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None) -> dict:
+                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None,
+                      keep_samples=False) -> dict:
     """Two-sided Hausdorff and mean surface distance between two triangle meshes.
 
     src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
@@ -259,7 +307,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
       points_src, points_dst (query points used per direction),
       seconds_src_to_dst, seconds_dst_to_src, seconds (wall time, tree builds included);
       with ``normals``: normal_mean_degrees, normal_p95_degrees, normal_max_degrees,
-      normal_points.
+      normal_points; with ``keep_samples``: ``sampled``, a :class:`Sampled` (every
+      point's own distance, where it lies and where its closest point is; the numbers
+      above are the same with or without it).
     """
     t0 = time.perf_counter()
     vs, fs = _as_mesh(src_vertices, src_faces, "src")
@@ -271,10 +321,12 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     if normals is not None:
         shading = (_corner_normals(normals[0], fs, "src"), vd, fd, _corner_normals(normals[1], fd, "dst"))
 
+    kept = ({}, {}) if keep_samples else None
     h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
-                                               shading)
+                                               shading, kept and ((vd, fd), kept[0]))
     t1 = time.perf_counter()
-    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs))
+    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
+                                          keep=kept and (None, kept[1]))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)
@@ -299,6 +351,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     }
     if angles is not None:
         report.update(_normal_keys(angles))
+    if kept is not None:
+        report["sampled"] = Sampled(**{f"src_{k}": v for k, v in kept[0].items()},
+                                    **{f"dst_{k}": v for k, v in kept[1].items()})
     return report
 
 
@@ -328,7 +383,7 @@ def normal_deviation(src_vertices, src_faces, src_normals, dst_vertices, dst_fac
     samples, tri, bary = _sample_surface(vs, fs, _sample_count(vs, fs, samples_per_unit_area, n_samples),
                                          _surface_rng(seed, vs, fs))
     _, nearest = _distances(_build_tree(vd, fd), samples, with_faces=True)
-    report = _normal_keys(_normal_angles(samples, tri, bary, nearest, ns, vd, fd, nd))
+    report = _normal_keys(_normal_angles(tri, bary, nearest, _closest_bary(samples, nearest, vd, fd), ns, nd))
     report["seconds"] = time.perf_counter() - t0
     return report
 

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's operators: Generate LODs, Paint Importance, Importance from Armature,
-Importance from Shape Keys, Preview Importance.
+Importance from Shape Keys, Preview Importance, Show Deviation and its way back.
 
 Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
 a Python traceback; unexpected errors are printed to the console for bug reports.
@@ -14,7 +14,7 @@ import numpy as np
 
 import bpy
 
-from . import lod, vertex_groups
+from . import deviation_view, lod, vertex_groups
 from .importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
@@ -366,10 +366,78 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         return {'FINISHED'}
 
 
+class OBJECT_OT_line_quadric_lod_show_deviation(bpy.types.Operator):
+    """Show where the active LOD differs from its source: its distance per vertex as colours (blue on the source, red at its largest), in Solid shading by attribute; measured now if the LOD does not carry it. The source is not changed"""
+
+    bl_idname = "object.line_quadric_lod_show_deviation"
+    bl_label = "Show Deviation"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        blocker = deviation_view.blocker(context)
+        if blocker:
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set(blocker)
+            return False
+        return True
+
+    def execute(self, context):
+        blocker = deviation_view.blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        ob = context.active_object
+        settings = scene_settings(context)
+        use_modifiers = settings.use_modifiers if settings is not None else True
+        try:
+            measured = not deviation_view.has_heat(ob.data)
+            if measured:
+                deviation_view.paint(context, ob, use_modifiers)
+            switched = deviation_view.show(context, settings, ob) if settings is not None else 0
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except Exception as ex:
+            traceback.print_exc()
+            self.report({'ERROR'}, f"{self.bl_label} failed ({type(ex).__name__}: {ex})")
+            return {'CANCELLED'}
+        scale = ob.data.get(deviation_view.level_deviation.SCALE_PROPERTY, 0.0)
+        source = deviation_view.source_of(ob)
+        self.report({'INFO'}, f'"{ob.name}": {"measured, " if measured else ""}red = {scale:.4g} '
+                              f'(its largest distance to "{source.name}", object units), blue = on it'
+                              + ("" if switched else "; no 3D viewport to switch"))
+        return {'FINISHED'}
+
+
+class OBJECT_OT_line_quadric_lod_deviation_back(bpy.types.Operator):
+    """Put the viewport shading and the LODs' active colour back as they were before Show Deviation"""
+
+    bl_idname = "object.line_quadric_lod_deviation_back"
+    bl_label = "Back"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        settings = scene_settings(context)
+        if settings is None or not settings.deviation_view:
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set("Show Deviation has not switched the view")
+            return False
+        return True
+
+    def execute(self, context):
+        restored = deviation_view.back(scene_settings(context))
+        self.report({'INFO'}, f"Shading put back in {restored} viewport{'s' if restored != 1 else ''}")
+        return {'FINISHED'}
+
+
 classes = (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_paint,
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_preview_importance,
+    OBJECT_OT_line_quadric_lod_show_deviation,
+    OBJECT_OT_line_quadric_lod_deviation_back,
 )

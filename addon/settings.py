@@ -310,6 +310,17 @@ SETTINGS = (
             "Measure each LOD's distance to the source, and how far its shading normals "
             "turn from the source's, for the report (takes about a second per LOD on large meshes)",
             flag="--no-measure", cli={"help": "skip the deviation measurement (faster; quality is still reported)"}),
+    # Off by default, for the panel too: the attributes would travel into engine exports
+    # (FBX writes every colour attribute), and Show Deviation paints a LOD when asked.
+    Setting("deviation_colors", False, "Deviation Colors",
+            "Give each LOD its measured distance to the source per vertex: the colour attribute "
+            "\"LOD_Deviation\" (blue = on the source, red = the LOD's largest distance) and the float "
+            "attribute \"LOD_Deviation_Distance\"; measures the LODs like Measure Deviation. Off: Show "
+            "Deviation paints a LOD when asked",
+            flag="--deviation-colors",
+            cli={"help": "give each LOD the colour attribute LOD_Deviation (its distance to the source per "
+                         "vertex, blue 0 to red at the LOD's largest) and the float attribute "
+                         "LOD_Deviation_Distance (off by default: files for engines do not need them)"}),
 )
 BY_NAME = {s.name: s for s in SETTINGS}
 # The panel's Preserve rows and the command line's --no-preserve-X/--X-strength pairs.
@@ -317,6 +328,11 @@ PRESERVE_PAIRS = tuple((s.name, s.strength) for s in SETTINGS if s.strength)
 
 
 class _LodSettingsMethods:
+    def measuring(self) -> bool:
+        """Whether each LOD is measured against the source (Measure Deviation, or the
+        Deviation Colors that need the measurement)."""
+        return bool(self.measure_deviation or self.deviation_colors)
+
     @classmethod
     def names(cls) -> list:
         """The settings of the table (Blender property names), without the explicit chain."""

@@ -187,7 +187,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
                         "triangle quality; a name ending in .jsonl gets one line per input as "
                         "each finishes, then a summary line (nothing is lost if the run stops)")
-    add_arguments(g, ["measure_deviation"])
+    add_arguments(g, ["measure_deviation", "deviation_colors"])
 
     g = p.add_argument_group("running")
     g.add_argument("--jobs", type=_positive_int, default=1, metavar="N",
