@@ -290,6 +290,13 @@ def measure_level(lod_input, level, report: dict) -> tuple:
     group = settings.importance_group if settings.importance_source == 'VERTEX_GROUP' else None
     entry = level_breakdown(data, level, sampled, getattr(lod_input, "material_names", None),
                             region_columns(list(data.group_names), skin, group), diagonal)
+    if lod_input.limit is not None:
+        from . import limits  # (it builds on this module's sampling helpers)
+        column, value, scene_scale = lod_input.limit
+        kept = limits.level_report(data, sampled, column, value, lod_input.reference_diagonal or diagonal,
+                                   scene_scale)
+        if kept is not None:
+            entry["limit"] = dict(kept, group=settings.limit_group)
     if settings.deviation_colors:
         level = with_heat(level, sampled)
         scale = level.mesh_properties[SCALE_PROPERTY]

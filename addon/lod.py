@@ -34,6 +34,7 @@ from . import edges as edge_util
 from . import importance as imp
 from . import key_deviation
 from . import level_deviation
+from . import limits
 from . import measure
 from . import mesh_io
 from . import posed_deviation
@@ -101,6 +102,9 @@ class LodInput:
     # The source's material per slot (None: an empty slot), for the report's breakdown
     # per material (addon/level_deviation.py).
     material_names: list = field(default_factory=list)
+    # Painted limits (addon/limits.py): (the limit group's column of data.group_weights,
+    # the limit L in the object's units, their size in scene units), or None.
+    limit: Optional[tuple] = None
 
 
 @dataclass
@@ -370,11 +374,40 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     options, names = _core_options(source, settings, data, g, poses)
+    limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
+    if limit is not None:
+        column, value, _ = limit
+        options = core.Options.of(options, vertex_max_error=limits.vertex_limits(data.group_weights[:, column], value))
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
                     deviations=deviations, poses=poses, check_poses=check_poses, in_asset=asset is not None,
                     reference_diagonal=reference,
-                    material_names=[s.material.name if s.material else None for s in source.material_slots])
+                    material_names=[s.material.name if s.material else None for s in source.material_slots],
+                    limit=limit)
+
+
+def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, reference: Optional[float],
+                  in_asset: bool, warnings: list) -> Optional[tuple]:
+    """The settings' painted limit for ``source`` (addon/limits.py): (column, L in the
+    object's units, object to scene units), or None without a Limit Group. A group the
+    object lacks is a LodError, or for a part of an asset a note (the part is free);
+    ``reference``: the asset's diagonal in the object's units (None: its own)."""
+    name = settings.limit_group
+    if not name:
+        return None
+    if name not in data.group_names:
+        if in_asset:
+            warnings.append(f'no vertex group "{name}": no painted limit on this part')
+            return None
+        raise LodError(f'"{source.name}" has no vertex group "{name}" (Limit Group)')
+    column = list(data.group_names).index(name)
+    if not np.any(data.group_weights[:, column] > limits.MIN_WEIGHT):
+        warnings.append(f'the Limit Group "{name}" is empty: no painted limit')
+        return None
+    scale = asset_set.world_scale(source) if in_asset else 1.0
+    diagonal = reference if reference is not None else measure.bbox_diagonal(data.vertices, data.faces)
+    value = limits.limit_in_mesh_units(settings.limit_distance, settings.limit_unit == 'PERCENT', diagonal, scale)
+    return column, value, scale
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:

@@ -51,6 +51,7 @@ from __future__ import annotations
 import time
 import zlib
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -74,7 +75,8 @@ class Sampled:
     the surface's ``vertices`` (j,) (the ids of those a face uses) their
     ``vertex_distance`` (j,). For src's samples also the triangle of dst their closest
     point is on (``src_nearest`` (k,)) and that point's coordinates there
-    (``src_nearest_bary`` (k, 3)).
+    (``src_nearest_bary`` (k, 3)); the same for dst's samples (``dst_nearest``, on src)
+    and for both surfaces' vertices (``*_vertex_nearest``, ``*_vertex_nearest_bary``).
     """
 
     src_triangle: np.ndarray
@@ -89,6 +91,12 @@ class Sampled:
     dst_distance: np.ndarray
     dst_vertices: np.ndarray
     dst_vertex_distance: np.ndarray
+    dst_nearest: Optional[np.ndarray] = None
+    dst_nearest_bary: Optional[np.ndarray] = None
+    src_vertex_nearest: Optional[np.ndarray] = None
+    src_vertex_nearest_bary: Optional[np.ndarray] = None
+    dst_vertex_nearest: Optional[np.ndarray] = None
+    dst_vertex_nearest_bary: Optional[np.ndarray] = None
 
 
 def _as_mesh(vertices, faces, what: str):
@@ -241,7 +249,12 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None) -> tup
             keep[1].update(nearest=nearest, nearest_bary=at)
     if keep is not None:
         keep[1].update(triangle=tri, bary=bary, distance=d_samples)
-    d_verts = _distances(tree_b, verts)
+    if keep is not None and keep[0] is not None:
+        d_verts, vertex_nearest = _distances(tree_b, verts, with_faces=True)
+        keep[1].update(vertex_nearest=vertex_nearest,
+                       vertex_nearest_bary=_closest_bary(verts, vertex_nearest, *keep[0]))
+    else:
+        d_verts = _distances(tree_b, verts)
     if keep is not None:
         keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
@@ -326,7 +339,7 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
                                                shading, kept and ((vd, fd), kept[0]))
     t1 = time.perf_counter()
     h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
-                                          keep=kept and (None, kept[1]))
+                                          keep=kept and ((vs, fs), kept[1]))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's operators: Generate LODs, Paint Importance, Importance from Armature,
-Importance from Shape Keys, Preview Importance, Show Deviation and its way back.
+Importance from Shape Keys, Preview Importance, Paint Limit, Show Deviation and its way back.
 
 Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
 a Python traceback; unexpected errors are printed to the console for bug reports.
@@ -19,7 +19,7 @@ from .importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
 from .props import settings_properties
-from .settings import IMPORTANCE_GROUP, PREVIEW_GROUP
+from .settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',
@@ -268,6 +268,32 @@ class OBJECT_OT_line_quadric_lod_paint(_ImportanceOperator, bpy.types.Operator):
         return {'FINISHED'}
 
 
+class OBJECT_OT_line_quadric_lod_paint_limit(_ImportanceOperator, bpy.types.Operator):
+    """Paint how far the LODs may move: creates (or reuses) the vertex group "LOD_Limit", makes it the Limit Group and enters Weight Paint mode on it (weight 1 = within Limit, 0 = free)"""
+
+    bl_idname = "object.line_quadric_lod_paint_limit"
+    bl_label = "Paint Limit"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    def execute(self, context):
+        if self.report_blocker(context):
+            return {'CANCELLED'}
+        ob = context.active_object
+        group = ob.vertex_groups.get(LIMIT_GROUP) or ob.vertex_groups.new(name=LIMIT_GROUP)
+        ob.vertex_groups.active_index = group.index
+        panel = scene_settings(context)
+        if panel is not None:
+            panel.limit_group = group.name
+        if ob.mode != 'WEIGHT_PAINT':
+            try:
+                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            except RuntimeError as ex:
+                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
+                return {'CANCELLED'}
+        self.report({'INFO'}, f'Painting "{LIMIT_GROUP}": weight 1 = the LODs stay within Limit, 0 = free')
+        return {'FINISHED'}
+
+
 class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Operator):
     """Bake importance from the skin weights into the vertex group "LOD_Importance" (paper Sec. 5.3: vertices near joints matter), so it can be seen and repainted"""
 
@@ -435,6 +461,7 @@ class OBJECT_OT_line_quadric_lod_deviation_back(bpy.types.Operator):
 classes = (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_paint_limit,
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_preview_importance,

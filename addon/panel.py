@@ -13,6 +13,7 @@ from .operators import (
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_paint_limit,
     OBJECT_OT_line_quadric_lod_preview_importance,
     has_shape_keys,
     OBJECT_OT_line_quadric_lod_show_deviation,
@@ -127,6 +128,20 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
             box.operator(OBJECT_OT_line_quadric_lod_preview_importance.bl_idname, icon='HIDE_OFF')
 
         box = layout.box()
+        box.label(text="Limit", icon='CON_DISTLIMIT')
+        if is_mesh:
+            box.prop_search(settings, "limit_group", ob, "vertex_groups", text="Group")
+        else:
+            box.prop(settings, "limit_group", text="Group")
+        if settings.limit_group:
+            if is_mesh and settings.limit_group not in ob.vertex_groups:
+                box.label(text=f'"{ob.name}" has no group "{settings.limit_group}"', icon='ERROR')
+            row = box.row(align=True)
+            row.prop(settings, "limit_distance")
+            row.prop(settings, "limit_unit", text="")
+        box.operator(OBJECT_OT_line_quadric_lod_paint_limit.bl_idname, icon='BRUSH_DATA')
+
+        box = layout.box()
         box.label(text="Preserve", icon='LOCKED')
         col = box.column(align=True)
         for flag, strength in PRESERVE_PAIRS:
@@ -192,6 +207,13 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                     box.label(text=f"LOD{level['level']}: painted region kept {imp['painted_kept_percent']:.0f} %, "
                                    f"the rest {imp['rest_kept_percent']:.0f} % "
                                    f"({imp['painted_density']:.1f}x as dense)")
+            for level in rep["levels"]:
+                # The painted limit, measured (addon/limits.py): 1 = at the limit.
+                if level.get("limit"):
+                    kept = level["limit"]
+                    box.label(text=f"LOD{level['level']} limit \"{kept['group']}\": {100 * kept['limit_used']:.0f} % "
+                                   f"of it used, region max {kept['region_hausdorff_percent']:.3f} %",
+                              icon='CHECKMARK' if kept["within"] else 'ERROR')
             for level in rep["levels"]:
                 for line in breakdown_lines(level):
                     box.label(text=line)

@@ -49,13 +49,14 @@ def settings_summary(args) -> dict:
     # options gave them: the chain as LodSettings computes it, the importance choice as
     # given (it is made per object).
     panel_only = ("ratio", "levels", "level_factor", "target_triangles", "target_by", "max_deviation",
-                  "importance_source", "importance_group")
+                  "importance_source", "importance_group", "limit_group")
     out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
     kind, chain = s.chain()
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
                **({"max_error": chain} if kind == "deviations" else {}),
                importance_group=args.importance_group, from_armature=args.from_armature or False,
                from_shape_keys=bool(getattr(args, "from_shape_keys", False)),
+               limit_group=getattr(args, "limit_group", None),
                lod_group=bool(args.lod_group))
     return out
 
@@ -153,6 +154,21 @@ def format_breakdown(files: list) -> str:
                     _breakdown_rows(files), left={0, 1, 2, 3, 4})
 
 
+def limit_lines(files: list) -> list:
+    """One line per LOD with a painted limit (addon/limits.py): how much of it the LOD uses."""
+    lines = []
+    for f in files:
+        for obj in f["objects"]:
+            for level in obj["levels"]:
+                kept = level.get("limit")
+                if kept:
+                    lines.append(f"limit: {f['label']}: {level['name']}: \"{kept['group']}\" within "
+                                 f"{kept['limit_percent']:.3g} %: {100 * kept['limit_used']:.0f} % of it used, "
+                                 f"region max {kept['region_hausdorff_percent']:.3f} %"
+                                 + ("" if kept["within"] else " (BEYOND the limit)"))
+    return lines
+
+
 def posed_lines(files: list) -> list:
     """One line per skinned LOD: its distance over the rig's own actions (addon/posed_deviation.py)."""
     lines = []
@@ -226,7 +242,7 @@ def print_results(report: dict) -> None:
         print("\nDistance to the source per material and painted region (% of the diagonal; "
               "mean, 95th percentile, max over both surfaces' samples):")
         print(breakdown)
-    for line in posed_lines(report["files"]):
+    for line in limit_lines(report["files"]) + posed_lines(report["files"]):
         print(line)
     for f in report["files"]:
         for warning in f["warnings"]:
