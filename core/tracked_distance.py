@@ -36,7 +36,7 @@ from .geometry import closest_on_triangles, rows
 # points a face) the sampled distance came out as close to the bound (1.17-1.44x against
 # 1.19-1.41x on the Fox and homer at 0.05-1 %), a third faster.
 FACE_GRID = 2
-LIMIT_GRID = 4
+LIMIT_GRID = 3  # painted limits: a finer grid (7 points a face; docs/method.md#painted-limits)
 # Bounds under this share of the limit are trusted as they are; above it they are
 # measured (and a point farther than it from the face its face becomes looks for the
 # nearest new face).
