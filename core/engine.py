@@ -37,6 +37,7 @@ from .metrics import triangle_quality
 
 # Selection rounds per pass: more rounds, more collapses per connectivity update.
 SELECTION_ROUNDS = 4
+LIMITED_SELECTION_ROUNDS = 32  # with edges a painted limit holds (_choose)
 # Share of the cheapest candidates a pass may collapse: lower follows the sequential
 # greedy order more closely, higher needs fewer passes. The share narrows as the target
 # nears (half the share of faces still to go, within these bounds): early on the costs
@@ -246,14 +247,24 @@ def _loosen(s: State, p: Problem, level: int) -> bool:
     return grew
 
 
-def _forget_rejections(s: State):
+def _forget_rejections(s: State, keep_limits: bool = False):
     """Per-edge memory of the current connectivity, empty: every edge gets a new chance
     (after a rule relaxed or the bound grew, or when the edges were rebuilt), and no
-    cached cost is reused."""
+    cached cost is reused. ``keep_limits``: a quality rule relaxed, which changes nothing
+    for what a painted limit rejected (a collapse's position and distance do not depend
+    on the rules): those stay rejected until their neighbourhood changes, or every pass
+    after a relaxation would first reject them all again."""
+    held = None
+    if keep_limits and s.bound is not None and not s.bound.global_bound:
+        held = np.flatnonzero(s.bound.far_rejected == BY_LIMIT)
+    rejected_pass = s.rejected_pass
     s.rejected_pass = np.zeros(len(s.conn.edges), dtype=np.int64)
     s.cache = None
     if s.bound is not None:
         s.bound.far_rejected = np.zeros(len(s.conn.edges), dtype=np.int8)
+        if held is not None and len(held):
+            s.rejected_pass[held] = rejected_pass[held]
+            s.bound.far_rejected[held] = BY_LIMIT
 
 
 def _distance_blocks(s: State):
@@ -309,7 +320,7 @@ def _unstick(s: State, p: Problem, target: int):
         s.guards = s.ladder[s.guards.step + 1]
         # Edges rejected under the stricter rules get a new chance; the cost cache of a
         # pass that found no candidate has nothing to reuse.
-        _forget_rejections(s)
+        _forget_rejections(s, keep_limits=True)
         return None
     # A removed part is as far from the LOD as can be: not under max_error, nor where a
     # painted limit holds.
@@ -356,6 +367,11 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
     if not s.slivers.allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
         cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
     share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
+    if s.slivers.stalled and s.bound is not None and not s.bound.global_bound:
+        # A pass that took nothing under painted limits: every candidate may go, in
+        # every round, or the passes crawl through the few cheapest around the last
+        # change, each rejected in turn (a sphere half painted: 1,346 passes).
+        share = 1.0
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
     need = len(s.F) - target
@@ -422,14 +438,20 @@ def _choose(s: State, conn, cand, n, seed, pass_no, share) -> np.ndarray:
             free = None
         else:
             ranked = cand.cost[free]
-    pass_limit, later_limit = _cost_quantiles(ranked, (share, share * LATER_ROUND_SHARE))
+    pass_limit, later_limit = _cost_quantiles(ranked, (share, share * LATER_ROUND_SHARE if share < 1 else 1.0))
     eligible = cand.cost <= pass_limit
     if free is not None:
         eligible &= free
     window = None  # later rounds look only at the faces around what is still eligible
     # Faces the pass's collapses take from the corners opposite their edges.
     faces_taken = np.zeros(n, dtype=s.face_count.dtype)
-    for round_no in range(SELECTION_ROUNDS):
+    rounds = SELECTION_ROUNDS
+    if free is not None or (share >= 1.0 and s.bound is not None):
+        # Under painted limits the free candidates can be a handful around the last
+        # change, one independent per round: more (cheap, windowed) rounds rather than
+        # a pass each (a sphere half painted took 566 passes for one level, 195 this way).
+        rounds = LIMITED_SELECTION_ROUNDS
+    for round_no in range(rounds):
         chosen = selection.independent_set(cand, conn, n, seed, eligible)
         if len(chosen) == 0:
             break
