@@ -391,11 +391,17 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
 
 
-def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dict]:
+def region_word(source: str) -> str:
+    """What the report and the panel call the region of g >= 0.5 for an importance source:
+    "keyed" for Source Shape Keys (nobody painted it), else "painted"."""
+    return "keyed" if source == 'SHAPE_KEYS' else "painted"
+
+
+def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "painted") -> Optional[dict]:
     """How dense the painted region (g >= 0.5) came out against the rest: the share of
     each kept and their ratio, the density in/out relative to the input's (on a uniform
-    mesh simply the painted region's vertex density over the rest's). None when nothing
-    or everything is painted."""
+    mesh simply the painted region's vertex density over the rest's). ``region``: what
+    the panel calls that region (region_word). None when nothing or everything is painted."""
     painted = np.asarray(g) >= PAINTED
     n_in = int(np.count_nonzero(painted))
     n_out = len(painted) - n_in
@@ -406,7 +412,7 @@ def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dic
     share_in, share_out = kept_in / n_in, kept_out / n_out
     return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
             "rest_kept_percent": 100.0 * share_out,
-            "painted_density": share_in / share_out if share_out > 0 else float("inf")}
+            "painted_density": share_in / share_out if share_out > 0 else float("inf"), "region": region}
 
 
 # ----------------------------------------------------------------------------- compute
@@ -582,7 +588,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             # Each key's shape too: the LOD with the key at 1 against the source with it.
             entry["shape_keys"] = key_deviation.level_key_deviations(data, levels[-1])
         if lod_input.importance is not None:
-            density = importance_density(lod_input.importance, result.vertex_origin)
+            density = importance_density(lod_input.importance, result.vertex_origin,
+                                         region_word(lod_input.settings.importance_source))
             if density is not None:
                 entry["importance"] = density
         if stats.stop_reason != core.STOP_TARGET and requested[k - 1] is None:
@@ -891,7 +898,8 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                hausdorff_percent, mean_percent, normal_mean_degrees, normal_p95_degrees,
                normal_max_degrees (if measured), mean_quality, min_quality, sliver_percent,
                importance (with importance on: painted_vertices, painted_kept,
-               painted_kept_percent, rest_kept_percent, painted_density),
+               painted_kept_percent, rest_kept_percent, painted_density, region: "painted",
+               or "keyed" for Source Shape Keys),
                shape_keys (measured, with shape keys: per key {name, hausdorff, mean,
                hausdorff_percent, mean_percent}, the LOD and the source each with that
                key at 1; key_deviation.py),

@@ -158,7 +158,9 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
             for level in rep["levels"]:
                 if "importance" in level:
                     imp = level["importance"]
-                    box.label(text=f"LOD{level['level']}: painted region kept {imp['painted_kept_percent']:.0f} %, "
+                    # "keyed region" for Source Shape Keys: nobody painted it.
+                    box.label(text=f"LOD{level['level']}: {imp.get('region', 'painted')} region kept "
+                                   f"{imp['painted_kept_percent']:.0f} %, "
                                    f"the rest {imp['rest_kept_percent']:.0f} % "
                                    f"({imp['painted_density']:.1f}x as dense)")
             for warning in rep.get("warnings", []):
