@@ -192,22 +192,52 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
     return DEFAULT_SAMPLES
 
 
-def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None) -> tuple:
-    """(Hausdorff, mean, query points) from surface a to the tree of surface b; with
-    ``shading`` = (a's corner normals, b's vertices, faces and corner normals) also the
-    normal angles at a's area samples (else None)."""
+def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, region=None) -> tuple:
+    """(Hausdorff, mean, query points, angles, region stats) from surface a to the tree
+    of surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
+    normals) also the normal angles at a's area samples (else None). ``region``: which
+    of a point's triangles count, as ("own", (m_a,) bool: the triangle of a the point
+    is on) or ("nearest", (m_b,) bool: the triangle of b its closest point is on); then
+    also (largest, mean, samples) over the points in the region (_region_stats), else None."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
-    verts = v_a[np.unique(f_a)]
-    if shading is None:
+    used = np.unique(f_a)
+    verts = v_a[used]
+    nearest = nearest_verts = None
+    if shading is None and (region is None or region[0] == "own"):
         d_samples, angles = _distances(tree_b, samples), None
     else:
         d_samples, nearest = _distances(tree_b, samples, with_faces=True)
-        angles = _normal_angles(samples, tri, bary, nearest, *shading)
-    d_verts = _distances(tree_b, verts)
+        angles = None if shading is None else _normal_angles(samples, tri, bary, nearest, *shading)
+    if region is not None and region[0] == "nearest":
+        d_verts, nearest_verts = _distances(tree_b, verts, with_faces=True)
+    else:
+        d_verts = _distances(tree_b, verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
     mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
-    return hausdorff, mean, len(samples) + len(verts), angles
+    stats = None
+    if region is not None:
+        kind, mask = region
+        if kind == "own":
+            # A vertex is in the region when a triangle of the region uses it.
+            in_region = np.zeros(len(v_a), dtype=bool)
+            in_region[f_a[mask]] = True
+            stats = _region_stats(d_samples, mask[tri], d_verts, in_region[used])
+        else:
+            stats = _region_stats(d_samples, mask[nearest], d_verts, mask[nearest_verts])
+    return hausdorff, mean, len(samples) + len(verts), angles, stats
+
+
+def _region_stats(d_samples, in_samples, d_verts, in_verts) -> tuple:
+    """(largest distance, mean distance, area samples) over the points in a region: the
+    largest over its samples and vertices, the mean over its area samples (over its
+    vertices when no sample fell in it; NaN when no point did)."""
+    picked, picked_verts = d_samples[in_samples], d_verts[in_verts]
+    if not len(picked) and not len(picked_verts):
+        return float("nan"), float("nan"), 0
+    largest = float(max(picked.max(initial=0.0), picked_verts.max(initial=0.0)))
+    mean = float(picked.mean()) if len(picked) else float(picked_verts.mean())
+    return largest, mean, int(len(picked))
 
 
 def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
@@ -241,7 +271,7 @@ def _normal_keys(angles: np.ndarray) -> dict:
 
 
 def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
-                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None) -> dict:
+                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None, src_region=None) -> dict:
     """Two-sided Hausdorff and mean surface distance between two triangle meshes.
 
     src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
@@ -252,6 +282,10 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     normals: optional (src corner normals, dst corner normals), each (m, 3, 3) per
     triangle corner of its mesh: also the shading-normal deviation (normal_deviation's
     keys), from the closest points the src->dst distances found (no queries of its own).
+    src_region: optional (m_src,) bool, a region of src's triangles (e.g. what a shape key
+    moves): also the distances there, both ways, from the same queries: src's points on
+    those triangles to dst, and dst's points whose closest point of src is on them to
+    src (a LOD's triangles over the region, whichever of them the region's samples miss).
 
     Returns a dict of floats (distances in mesh units unless *_percent):
       hausdorff, mean, hausdorff_percent, mean_percent, diagonal,
@@ -259,7 +293,10 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
       points_src, points_dst (query points used per direction),
       seconds_src_to_dst, seconds_dst_to_src, seconds (wall time, tree builds included);
       with ``normals``: normal_mean_degrees, normal_p95_degrees, normal_max_degrees,
-      normal_points.
+      normal_points; with ``src_region``: region_hausdorff, region_mean (two-sided, as
+      above, over the points in the region; NaN for an empty region), region_percent
+      versions, region_mean_src_to_dst, region_mean_dst_to_src, region_samples_src,
+      region_samples_dst (area samples in the region per direction).
     """
     t0 = time.perf_counter()
     vs, fs = _as_mesh(src_vertices, src_faces, "src")
@@ -270,11 +307,19 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     shading = None
     if normals is not None:
         shading = (_corner_normals(normals[0], fs, "src"), vd, fd, _corner_normals(normals[1], fd, "dst"))
+    region = None
+    if src_region is not None:
+        region = np.asarray(src_region, dtype=bool)
+        if region.shape != (len(fs),):
+            raise ValueError(f"src_region must be a ({len(fs)},) bool array, one per src triangle, "
+                             f"got shape {region.shape}")
 
-    h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
-                                               shading)
+    h_sd, m_sd, k_src, angles, in_src = _one_direction(
+        vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd), shading,
+        None if region is None else ("own", region))
     t1 = time.perf_counter()
-    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs))
+    h_ds, m_ds, k_dst, _, in_dst = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
+                                                  region=None if region is None else ("nearest", region))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)
@@ -299,7 +344,22 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     }
     if angles is not None:
         report.update(_normal_keys(angles))
+    if region is not None:
+        report.update(_region_keys(in_src, in_dst, scale))
     return report
+
+
+def _region_keys(in_src: tuple, in_dst: tuple, scale: float) -> dict:
+    """surface_deviation's region_* keys from each direction's _region_stats: the largest
+    of both, the mean of the directions that have points in the region."""
+    largest = np.array([in_src[0], in_dst[0]])
+    means = np.array([in_src[1], in_dst[1]])
+    hausdorff = float(np.nanmax(largest)) if np.isfinite(largest).any() else float("nan")
+    mean = float(np.nanmean(means)) if np.isfinite(means).any() else float("nan")
+    return {"region_hausdorff": hausdorff, "region_mean": mean,
+            "region_hausdorff_percent": hausdorff * scale, "region_mean_percent": mean * scale,
+            "region_mean_src_to_dst": in_src[1], "region_mean_dst_to_src": in_dst[1],
+            "region_samples_src": in_src[2], "region_samples_dst": in_dst[2]}
 
 
 def normal_deviation(src_vertices, src_faces, src_normals, dst_vertices, dst_faces, dst_normals, *,

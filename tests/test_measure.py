@@ -6,6 +6,8 @@ which gets the test meshes through an .npz file and returns the measured dicts.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -81,6 +83,16 @@ def test_samples_carry_their_triangle_and_barycentric_coordinates():
 # ---------------------------------------------------------------- Blender side
 
 
+FLAP_HEIGHT = 0.5
+
+
+def flapped(v, f) -> dict:
+    """The plane with an extra triangle floating FLAP_HEIGHT above its left half (a LOD
+    piece that the source's samples never find: only the LOD's own samples see it)."""
+    flap = np.array([[0.1, 0.2, FLAP_HEIGHT], [0.4, 0.2, FLAP_HEIGHT], [0.25, 0.6, FLAP_HEIGHT]])
+    return {"flap_v": np.concatenate([v, flap]), "flap_f": np.concatenate([f, [[len(v), len(v) + 1, len(v) + 2]]])}
+
+
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("measure")
@@ -92,7 +104,9 @@ def measured(tmp_path_factory):
     np.savez(path, plane_v=plane_v, plane_f=plane_f, coarse_plane_v=coarse_plane_v, coarse_plane_f=coarse_plane_f,
              shifted_v=plane_v + [0.0, 0.0, 0.1], shifted_f=plane_f,
              fine_v=fine_v, fine_f=fine_f, coarse_v=coarse_v, coarse_f=coarse_f,
-             empty_v=plane_v, empty_f=np.empty((0, 3), np.int64))
+             empty_v=plane_v, empty_f=np.empty((0, 3), np.int64),
+             step_v=plane_v + np.outer(plane_v[:, 0] >= 0.7, [0.0, 0.0, 0.1]), step_f=plane_f,
+             **flapped(plane_v, plane_f))
     result = run_scenario("measure_deviation", {"meshes_npz": str(path)}, user_dir=tmp / "blender",
                           install=False, timeout=300)
     result["sagitta_fine"] = max_sagitta(fine_v, fine_f)
@@ -184,6 +198,46 @@ def test_surface_deviation_gives_the_normals_from_its_own_closest_points(measure
         assert with_normals[key] == without[key], key  # the distances do not change
 
 
+def test_region_of_a_shifted_plane_is_as_far_as_the_plane(measured):
+    r = measured["region_shifted"]
+    for key in ("region_hausdorff", "region_mean", "region_mean_src_to_dst", "region_mean_dst_to_src"):
+        assert r[key] == pytest.approx(0.1, abs=1e-6), key
+    assert r["region_mean_percent"] == pytest.approx(r["mean_percent"], rel=1e-5)
+    # The left half: half of each surface's area samples, both ways.
+    for side in ("src", "dst"):
+        assert abs(r["region_samples_" + side] / 20_000 - 0.5) < 0.02, r["region_samples_" + side]
+
+
+def test_region_sees_only_its_own_part_of_a_step(measured):
+    # The plane against itself raised by 0.1 right of x = 0.7 (a ramp from 0.6 to 0.7).
+    left, right, whole = (measured["region_step_" + k] for k in ("left", "right", "without"))
+    assert whole["mean"] > 0.02
+    assert left["region_hausdorff"] < 1e-6 and left["region_mean"] < 1e-7  # untouched there
+    assert 0.08 < right["region_mean"] <= 0.1 + 1e-6 and right["region_mean"] > 2 * whole["mean"]
+    assert right["region_hausdorff"] == pytest.approx(0.1, abs=1e-6)
+    for r in (left, right):
+        for key in ("hausdorff", "mean", "hausdorff_src_to_dst", "mean_dst_to_src", "points_src", "points_dst"):
+            assert r[key] == whole[key], key  # the whole surface's numbers do not change
+
+
+def test_region_counts_lod_points_whose_closest_source_point_is_in_it(measured):
+    # An extra triangle FLAP_HEIGHT above the left half: no source sample finds it, only
+    # its own samples do, and their closest source points are in the left half.
+    left, right = measured["region_flap_left"], measured["region_flap_right"]
+    assert left["region_mean_src_to_dst"] < 1e-7
+    assert left["region_hausdorff"] == pytest.approx(FLAP_HEIGHT, abs=1e-6)
+    assert left["region_mean_dst_to_src"] > 0.0 and left["region_mean"] > 0.0
+    assert right["region_hausdorff"] < 1e-6 and right["region_mean"] < 1e-7
+
+
+def test_an_empty_region_has_no_distances(measured):
+    for name in ("region_step_none", "region_flap_none"):
+        r = measured[name]
+        assert r["region_samples_src"] == r["region_samples_dst"] == 0
+        assert all(math.isnan(r[key]) for key in ("region_hausdorff", "region_mean", "region_mean_percent")), r
+        assert r["mean"] > 0.0  # the whole surface is still measured
+
+
 def test_invalid_input_raises_value_error_naming_the_problem(measured):
     e = measured["errors"]
     assert "(m, 3, 3)" in e["normals_shape"]
@@ -192,6 +246,7 @@ def test_invalid_input_raises_value_error_naming_the_problem(measured):
     assert "outside" in e["index"]
     assert "not both" in e["both_counts"]
     assert "NaN" in e["nan"]
+    assert "src_region must be a (200,) bool array" in e["region_shape"]
 
 
 def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):
