@@ -192,6 +192,18 @@ def no_shape_keys(obj) -> str:
             f'or choose another importance source')
 
 
+def none_has_shape_keys(names: list) -> str:
+    """The message for Source Shape Keys on several objects none of which has any."""
+    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
+    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
+            f"(Object Data Properties > Shape Keys) or choose another importance source")
+
+
+# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
+# importance, this note (the command line's words for the same case, headless/sources.py).
+NO_KEYS_NOTE = "no importance (no shape keys)"
+
+
 def shape_key_importance_of(obj) -> np.ndarray:
     """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
     from its shape keys (importance.shape_key_importance); LodError when it has none."""
@@ -327,12 +339,15 @@ def shared_mesh_key(source, settings: LodSettings):
 
 
 def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = (),
-            asset: Optional[asset_set.Asset] = None) -> LodInput:
+            asset: Optional[asset_set.Asset] = None, keys_optional: bool = False) -> LodInput:
     """Check the input and read everything the run needs from Blender (main thread).
     ``chain_labels``: how a message about the explicit chain names its ratios and triangle
     counts (LodSettings.targets; the command line: "--ratios", "--faces"). ``asset``: the
     asset ``source`` is a part of (addon/asset.py): a chain by triangles gets its targets
-    from the asset's budget later (LodJob), deviations are relative to the asset."""
+    from the asset's budget later (LodJob), deviations are relative to the asset.
+    ``keys_optional``: ``source`` is one of several objects (LodJob): with Source Shape
+    Keys, a mesh without shape keys is made without importance and gets NO_KEYS_NOTE
+    rather than an error (LodJob raises one when none of the objects has keys)."""
     check_source(source)
     settings.validate()
     _, depsgraph = _scene_and_depsgraph(context_or_scene)
@@ -357,7 +372,12 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         targets = settings.targets(len(data.faces), *chain_labels)
         if settings.deviation_chain() is not None:
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
-    g = _importance(source, settings, data.group_names, data.group_weights, lambda: key_deviation.offsets_of(data))
+    if keys_optional and settings.importance_source == 'SHAPE_KEYS' and not data.shape_keys:
+        g = None
+        warnings.append(NO_KEYS_NOTE)
+    else:
+        g = _importance(source, settings, data.group_names, data.group_weights,
+                        lambda: key_deviation.offsets_of(data))
     if g is not None and settings.importance_source == 'SHAPE_KEYS' and not np.any(g > 0):
         warnings.append("no shape key moves any vertex: Source Shape Keys has nothing to keep")
     poses = check_poses = None

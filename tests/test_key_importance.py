@@ -133,3 +133,32 @@ def test_core_scales_the_keyed_error_with_importance():
     assert abs(len(important.faces) - len(plain.faces)) <= 2
     kept_plain, kept = bump[plain.vertex_origin].sum(), bump[important.vertex_origin].sum()
     assert kept >= 1.6 * kept_plain, (kept, kept_plain)
+
+
+def test_importance_against_a_given_reference():
+    # An asset's reference (asset.key_importance): a part moved half as far as the
+    # reference gets half the importance, one moved further saturates.
+    offsets = np.zeros((1, 4, 3))
+    offsets[0, :, 0] = [0.0, 0.5, 1.0, 2.0]
+    assert np.allclose(imp.shape_key_importance(offsets, reference=1.0), [0.0, 0.5, 1.0, 1.0])
+    assert np.array_equal(imp.shape_key_importance(offsets, reference=0.0), np.zeros(4))
+    # Without one, its own robust maximum: the same as motion_reference of key_motion.
+    moved = imp.key_motion(offsets)
+    assert np.allclose(moved, [0.0, 0.5, 1.0, 2.0])
+    assert np.allclose(imp.shape_key_importance(offsets),
+                       imp.shape_key_importance(offsets, reference=imp.motion_reference(moved)))
+    assert imp.motion_reference(np.zeros(5)) == 0.0
+
+
+def test_key_region_is_what_the_key_moves():
+    V, F = build.grid(10, alternate=False)
+    key = np.zeros_like(V)
+    key[:, 2] = np.where(V[:, 0] > 0.75, 1.0, 0.0)  # the right quarter...
+    key[0, 2] = 0.01  # ...and a corner vertex by 1 %, below REGION_SHARE: not the region
+    region = key_deviation.key_region(key, F)
+    touched = (V[F][:, :, 0] > 0.75).any(axis=1)  # a vertex moved: the triangle is in
+    assert np.array_equal(region, touched)
+    assert not key_deviation.key_region(np.zeros_like(V), F).any()
+    assert key_deviation.key_region(key, F, share=0.005)[(F == 0).any(axis=1)].all()
+    # The share of the area the region covers (a uniform grid: its share of the triangles).
+    assert key_deviation._area_share(V, F, region) == pytest.approx(100.0 * touched.mean())
