@@ -128,8 +128,8 @@ def key_importance(inputs: list, matrices: list) -> None:
     for moved, (i, scale) in zip(motions, keyed):
         g = np.minimum(moved * scale / reference, 1.0) if reference > 0 else np.zeros(len(moved))
         settings = i.settings
-        i.core_options = core.Options.of(i.core_options,
-                                         **importance.controls(g, settings.line_weight, settings.importance_strength))
+        i.core_options = core.Options.of(i.core_options, **importance.controls(
+            g, settings.line_weight, settings.importance_strength, keys=True))
         i.importance = None if settings.importance_strength <= 0 else g
 
 

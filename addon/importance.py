@@ -87,6 +87,30 @@ KEY_MOVING = 1e-3
 KEY_REFERENCE_QUANTILE = 0.9
 
 
+# Source Shape Keys also weighs the keys' own error where the importance is: at g = 1 a
+# key's error counts key_weight(strength) times as much as at rest (1 + 14 x Strength: 8 at
+# the default), W ** g in between (core.Options.key_scale_exponent, on top of the factor
+# every plane gets). Measured (bench/shape_keys.py, docs/benchmarks.md) at 25 % against
+# the keys counting as the rest: 8 at the default took the generated face's keyed regions
+# from 0.43x to about 0.3x of their distance without importance and the robot as one
+# asset from 0.95x to about 0.7x, at about the same cost at rest (1.06x -> 1.10x; 0.97x ->
+# 0.93x); 4 gave about half of that, 16 little more for more at rest.
+KEY_WEIGHT_PER_STRENGTH = 14.0
+
+
+def key_weight(strength: float) -> float:
+    """What a shape key's error counts against the rest error at g = 1 under Source Shape
+    Keys at ``strength`` (1 = alike, at strength 0)."""
+    return 1.0 + KEY_WEIGHT_PER_STRENGTH * float(strength)
+
+
+def key_scale_exponent(strength: float) -> float:
+    """core.Options.key_scale_exponent for Source Shape Keys at ``strength``: the keys'
+    planes get factor ** exponent = factor * key_weight at g = 1."""
+    top = factor(strength)
+    return 1.0 if top <= 1.0 else 1.0 + float(np.log(key_weight(strength)) / np.log(top))
+
+
 def key_motion(offsets: np.ndarray) -> np.ndarray:
     """(n,) how far the keys move each vertex: the largest offset over the keys (K, n, 3)
     (what each key moves each vertex by at value 1); 0 where not finite."""
@@ -167,11 +191,13 @@ def effective(g: np.ndarray, strength: float) -> np.ndarray:
     return g * (np.log(factor(strength)) / np.log(factor(1.0)))
 
 
-def controls(g: np.ndarray, line_weight: float, strength: float) -> dict:
+def controls(g: np.ndarray, line_weight: float, strength: float, keys: bool = False) -> dict:
     """Core options (quadric_scale, line_scale_exponent, maybe line_weights) for importance
-    g in [0, 1]."""
+    g in [0, 1]; ``keys`` (Source Shape Keys): also key_scale_exponent."""
     g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
     out = {"quadric_scale": np.power(factor(strength), g), "line_scale_exponent": LINE_SCALE_EXPONENT}
+    if keys:
+        out["key_scale_exponent"] = key_scale_exponent(strength)
     if line_weight < LINE_WEIGHT_FLOOR and np.any(out["quadric_scale"] > 1):
         out["line_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
     return out

@@ -294,7 +294,8 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
     if len(feature_edges):
         options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
     if g is not None:
-        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength))
+        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength,
+                                                          keys=settings.importance_source == 'SHAPE_KEYS'))
     if poses is not None:
         options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
                                   pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
