@@ -90,11 +90,12 @@ KEY_REFERENCE_QUANTILE = 0.9
 # Source Shape Keys also weighs the keys' own error where the importance is: at g = 1 a
 # key's error counts key_weight(strength) times as much as at rest (1 + 14 x Strength: 8 at
 # the default), W ** g in between (core.Options.key_scale_exponent, on top of the factor
-# every plane gets). Measured (bench/shape_keys.py, docs/benchmarks.md) at 25 % against
-# the keys counting as the rest: 8 at the default took the generated face's keyed regions
-# from 0.43x to about 0.3x of their distance without importance and the robot as one
-# asset from 0.95x to about 0.7x, at about the same cost at rest (1.06x -> 1.10x; 0.97x ->
-# 0.93x); 4 gave about half of that, 16 little more for more at rest.
+# every plane gets), as Source Armature counts its sample poses more (pose_weight).
+# Measured at 25 % (bench/shape_keys.py, docs/benchmarks.md), each key's region mean over
+# the same without importance, against the keys counting as the rest: the generated face
+# 0.43x -> 0.32x (rest 1.06x -> 1.08x), RobotExpressive as one asset 0.95x -> 0.76x (rest
+# 0.98x -> 0.95x); the robot's face plate alone, which every key moves all of, 1.03x ->
+# 1.06x. 16 at the default took the robot to 0.60x but the plate alone to 1.16x.
 KEY_WEIGHT_PER_STRENGTH = 14.0
 
 

@@ -922,8 +922,9 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                painted_kept_percent, rest_kept_percent, painted_density, region: "painted",
                or "keyed" for Source Shape Keys),
                shape_keys (measured, with shape keys: per key {name, hausdorff, mean,
-               hausdorff_percent, mean_percent}, the LOD and the source each with that
-               key at 1; key_deviation.py),
+               hausdorff_percent, mean_percent, and for a key that moves the mesh
+               region_mean, region_hausdorff, their _percent, region_area_percent}, the
+               LOD and the source each with that key at 1; key_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
      switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,
