@@ -5,6 +5,7 @@ Modules (one idea each):
     _core           where ``core`` is imported from (extension vs. top-level layout)
     edges           edge bookkeeping in plain NumPy (feature edges, sharp edges, seams)
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
+    mesh_data       MeshData, the arrays a mesh is read into and written from (no bpy)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
     settings        SETTINGS, the one table of the settings, and what derives from it: LodSettings,
                     the command line's options; LodError, LodCancelled (no bpy)
@@ -17,14 +18,18 @@ Modules (one idea each):
     job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)
     lod_group       the chain named for game engines: source "<name>_LOD0", the Unreal LOD group
     props           the settings as Blender properties (operator and scene share them)
-    operators       Generate LODs, Paint Importance, Importance from Armature
+    operators       Generate LODs, Paint Importance, Importance from Armature, Show Deviation
     panel           the sidebar panel
     measure         surface deviation and the LOD report numbers
+    level_deviation where a LOD differs: per vertex (the heat map), per material and painted
+                    region (the report), the posed numbers' summary (no bpy)
+    posed_deviation the posed distance of skinned LODs over the armature's own actions
+    deviation_view  Show Deviation: a LOD's heat map in the viewport, and back
     cli             the command line's entry point (blender -c line_quadric_lod, -P, python <checkout>)
     headless/       the command line's parts (its __init__ lists them)
 
 The submodules that need bpy are imported inside register(), so the pure-NumPy parts
-(edges, settings, importance) import without Blender.
+(edges, settings, importance, mesh_data, level_deviation) import without Blender.
 """
 
 _classes = []

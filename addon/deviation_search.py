@@ -35,10 +35,12 @@ def report_samples(triangles: int) -> int:
 
 def deviation_report(data, level, normals=None) -> dict:
     """measure.mesh_report of ``level`` against the source, as the report measures it
-    (``normals``: (source's, level's) corner normals, for the shading deviation too)."""
+    (``normals``: (source's, level's) corner normals, for the shading deviation too), with
+    its points kept (``sampled``: the report's breakdown per material and region and the
+    heat map use them, addon/level_deviation.py)."""
     return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
                                n_samples=(report_samples(len(data.faces)), report_samples(len(level.faces))),
-                               normals=normals)
+                               normals=normals, keep_samples=True)
 
 
 def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_with_progress) -> tuple:

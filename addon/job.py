@@ -35,6 +35,7 @@ import threading
 from typing import Callable, Optional, Sequence, Union
 
 from . import asset as asset_set
+from . import level_deviation
 from . import lod
 from .settings import LodError
 
@@ -255,6 +256,11 @@ class LodJob:
 
         chains = [(out, asset_set.world_scale(bpy.data.objects[name]))
                   for out, name in zip(self.object_outputs, self.objects) if name in bpy.data.objects]
+        # The heat maps of a level in one scale for all the parts (Deviation Colors).
+        first = {}  # each output once, with its first object's scale (its meshes are shared)
+        for out, unit in chains:
+            first.setdefault(id(out), (out, unit))
+        level_deviation.share_scales(list(first.values()))
         eps = asset_set.level_deviations(chains)
         switch = None if eps is None else asset_set.switch_data(self.asset, eps, self.inputs[0].settings)
         reports = lod.commit(context, self.object_outputs, self.objects, switch=switch)

@@ -116,7 +116,7 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
     region_area_percent}] per shape key of the source ``data``: ``level`` (a LOD of it,
     carrying the same keys) against ``data``, both with that key at 1, over the whole
     surface and over the key's own region (key_region, measured both ways:
-    measure.surface_deviation's src_region; region_area_percent: the share of the source's
+    measure.region_deviation; region_area_percent: the share of the source's
     area with the key at 1 that the region covers). Percent of ``diagonal`` (by default
     the rest source's bounding-box diagonal). [] when the source has no shape keys."""
     if not data.shape_keys:
@@ -138,7 +138,8 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
         else:
             region = key_region(source[k], data.faces)
             d = measure.surface_deviation(data.vertices + source[k], data.faces, level.vertices + lod[k],
-                                          level.faces, n_samples=samples, src_region=region)
+                                          level.faces, n_samples=samples, keep_samples=True)
+            d.update(measure.region_deviation(d.pop("sampled"), data.faces, region))
         entry = {"name": sk.name, "hausdorff": float(d["hausdorff"]), "mean": float(d["mean"]),
                  "hausdorff_percent": float(d["hausdorff"] * scale), "mean_percent": float(d["mean"] * scale)}
         if "region_mean" in d and np.isfinite(d["region_mean"]):

@@ -33,8 +33,11 @@ from . import deviation_targets
 from . import edges as edge_util
 from . import importance as imp
 from . import key_deviation
+from . import level_deviation
+from . import limits
 from . import measure
 from . import mesh_io
+from . import posed_deviation
 from . import skin_fit
 from . import switch_distances
 from . import vertex_groups
@@ -96,6 +99,12 @@ class LodInput:
     # bounding-box diagonal; None: the mesh's own).
     in_asset: bool = False
     reference_diagonal: Optional[float] = None
+    # The source's material per slot (None: an empty slot), for the report's breakdown
+    # per material (addon/level_deviation.py).
+    material_names: list = field(default_factory=list)
+    # Painted limits (addon/limits.py): (the limit group's column of data.group_weights,
+    # the limit L in the object's units, their size in scene units), or None.
+    limit: Optional[tuple] = None
 
 
 @dataclass
@@ -386,10 +395,40 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     options, names = _core_options(source, settings, data, g, poses)
+    limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
+    if limit is not None:
+        column, value, _ = limit
+        options = core.Options.of(options, vertex_max_error=limits.vertex_limits(data.group_weights[:, column], value))
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
                     deviations=deviations, poses=poses, check_poses=check_poses, in_asset=asset is not None,
-                    reference_diagonal=reference)
+                    reference_diagonal=reference,
+                    material_names=[s.material.name if s.material else None for s in source.material_slots],
+                    limit=limit)
+
+
+def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, reference: Optional[float],
+                  in_asset: bool, warnings: list) -> Optional[tuple]:
+    """The settings' painted limit for ``source`` (addon/limits.py): (column, L in the
+    object's units, object to scene units), or None without a Limit Group. A group the
+    object lacks is a LodError, or for a part of an asset a note (the part is free);
+    ``reference``: the asset's diagonal in the object's units (None: its own)."""
+    name = settings.limit_group
+    if not name:
+        return None
+    if name not in data.group_names:
+        if in_asset:
+            warnings.append(f'no vertex group "{name}": no painted limit on this part')
+            return None
+        raise LodError(f'"{source.name}" has no vertex group "{name}" (Limit Group)')
+    column = list(data.group_names).index(name)
+    if not np.any(data.group_weights[:, column] > limits.MIN_WEIGHT):
+        warnings.append(f'the Limit Group "{name}" is empty: no painted limit')
+        return None
+    scale = asset_set.world_scale(source) if in_asset else 1.0
+    diagonal = reference if reference is not None else measure.bbox_diagonal(data.vertices, data.faces)
+    value = limits.limit_in_mesh_units(settings.limit_distance, settings.limit_unit == 'PERCENT', diagonal, scale)
+    return column, value, scale
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
@@ -539,7 +578,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     (LodCancelled). Simplification is the first SIMPLIFY_SHARE, the deviation report the rest.
     """
     t0 = time.perf_counter()
-    measuring = lod_input.settings.measure_deviation
+    measuring = lod_input.settings.measuring()
     simplify_share = progress_share(measuring or lod_input.deviations is not None)
 
     def report_progress(fraction):
@@ -603,6 +642,9 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         if measuring or requested[k - 1] is not None:
             rep = _level_report(data, levels[-1], measured.get(id(result)))
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
+            # Per material and painted region, and the heat map when asked for.
+            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep)
+            entry.update(more)
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
         if measuring and data.shape_keys:
@@ -855,6 +897,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
                 _replace_lod(old)
     asset_switch = switch
     reports = []
+    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal)
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _lod_collection(scene, source)
@@ -906,7 +949,16 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
         }
         if leader is not None:
             rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
+        elif out.input.settings.measuring() and armature_of(source) is not None:
+            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces)))
         reports.append(rep)
+    if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
+        try:
+            posed_deviation.measure_chains(scene, lambda: _scene_and_depsgraph(context_or_scene)[1], posed)
+        except Exception as ex:  # the LODs are made: a failed extra measurement is a note
+            for source, _, _, _ in posed:
+                next(r for r in reports if r["object"] == source.name)["warnings"].append(
+                    f"the posed distance was not measured ({type(ex).__name__}: {ex})")
     return reports
 
 
@@ -925,6 +977,10 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                hausdorff_percent, mean_percent, and for a key that moves the mesh
                region_mean, region_hausdorff, their _percent, region_area_percent}, the
                LOD and the source each with that key at 1; key_deviation.py),
+               measured: materials, regions ({name: {mean_percent, p95_percent,
+               max_percent, samples}}), deviation_colors (with Deviation Colors), posed
+               (skinned: over the armature's actions; addon/level_deviation.py,
+               addon/posed_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],
      switch: None unmeasured, else {pixel_error, screen_height, vertical_fov_degrees,

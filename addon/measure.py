@@ -50,6 +50,8 @@ from __future__ import annotations
 
 import time
 import zlib
+from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -60,6 +62,41 @@ DEFAULT_SAMPLES = 500_000  # area-uniform samples per surface (vertices come on 
 _PILOT_POINTS = 2000
 _PILOT_QUANTILE = 0.99
 _RADIUS_FACTOR = 2.0
+
+
+@dataclass
+class Sampled:
+    """What surface_deviation(keep_samples=True) measured point by point, for reports that
+    break the distance down (addon/level_deviation.py) without querying again.
+
+    Per direction (src_: src's points measured against dst; dst_: dst's against src),
+    for each area-uniform sample: ``triangle`` (k,) of its own surface it lies on and its
+    ``bary`` (k, 3) coordinates there, its ``distance`` (k,) to the other surface; and for
+    the surface's ``vertices`` (j,) (the ids of those a face uses) their
+    ``vertex_distance`` (j,). For src's samples also the triangle of dst their closest
+    point is on (``src_nearest`` (k,)) and that point's coordinates there
+    (``src_nearest_bary`` (k, 3)); the same for dst's samples (``dst_nearest``, on src)
+    and for both surfaces' vertices (``*_vertex_nearest``, ``*_vertex_nearest_bary``).
+    """
+
+    src_triangle: np.ndarray
+    src_bary: np.ndarray
+    src_distance: np.ndarray
+    src_nearest: np.ndarray
+    src_nearest_bary: np.ndarray
+    src_vertices: np.ndarray
+    src_vertex_distance: np.ndarray
+    dst_triangle: np.ndarray
+    dst_bary: np.ndarray
+    dst_distance: np.ndarray
+    dst_vertices: np.ndarray
+    dst_vertex_distance: np.ndarray
+    dst_nearest: Optional[np.ndarray] = None
+    dst_nearest_bary: Optional[np.ndarray] = None
+    src_vertex_nearest: Optional[np.ndarray] = None
+    src_vertex_nearest_bary: Optional[np.ndarray] = None
+    dst_vertex_nearest: Optional[np.ndarray] = None
+    dst_vertex_nearest_bary: Optional[np.ndarray] = None
 
 
 def _as_mesh(vertices, faces, what: str):
@@ -192,52 +229,38 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
     return DEFAULT_SAMPLES
 
 
-def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, region=None) -> tuple:
-    """(Hausdorff, mean, query points, angles, region stats) from surface a to the tree
-    of surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
-    normals) also the normal angles at a's area samples (else None). ``region``: which
-    of a point's triangles count, as ("own", (m_a,) bool: the triangle of a the point
-    is on) or ("nearest", (m_b,) bool: the triangle of b its closest point is on); then
-    also (largest, mean, samples) over the points in the region (_region_stats), else None."""
+def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None) -> tuple:
+    """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
+    surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
+    normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
+    and faces, or None when the closest points are not wanted, and a dict): the dict gets
+    the per-point results (Sampled's fields without their src_/dst_ prefix)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
     used = np.unique(f_a)
     verts = v_a[used]
-    nearest = nearest_verts = None
-    if shading is None and (region is None or region[0] == "own"):
+    if shading is None and (keep is None or keep[0] is None):
         d_samples, angles = _distances(tree_b, samples), None
     else:
         d_samples, nearest = _distances(tree_b, samples, with_faces=True)
-        angles = None if shading is None else _normal_angles(samples, tri, bary, nearest, *shading)
-    if region is not None and region[0] == "nearest":
-        d_verts, nearest_verts = _distances(tree_b, verts, with_faces=True)
+        v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
+        at = _closest_bary(samples, nearest, v_b, f_b)
+        angles = None if shading is None else _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
+        if keep is not None and keep[0] is not None:
+            keep[1].update(nearest=nearest, nearest_bary=at)
+    if keep is not None:
+        keep[1].update(triangle=tri, bary=bary, distance=d_samples)
+    if keep is not None and keep[0] is not None:
+        d_verts, vertex_nearest = _distances(tree_b, verts, with_faces=True)
+        keep[1].update(vertex_nearest=vertex_nearest,
+                       vertex_nearest_bary=_closest_bary(verts, vertex_nearest, *keep[0]))
     else:
         d_verts = _distances(tree_b, verts)
+    if keep is not None:
+        keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
     mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
-    stats = None
-    if region is not None:
-        kind, mask = region
-        if kind == "own":
-            # A vertex is in the region when a triangle of the region uses it.
-            in_region = np.zeros(len(v_a), dtype=bool)
-            in_region[f_a[mask]] = True
-            stats = _region_stats(d_samples, mask[tri], d_verts, in_region[used])
-        else:
-            stats = _region_stats(d_samples, mask[nearest], d_verts, mask[nearest_verts])
-    return hausdorff, mean, len(samples) + len(verts), angles, stats
-
-
-def _region_stats(d_samples, in_samples, d_verts, in_verts) -> tuple:
-    """(largest distance, mean distance, area samples) over the points in a region: the
-    largest over its samples and vertices, the mean over its area samples (over its
-    vertices when no sample fell in it; NaN when no point did)."""
-    picked, picked_verts = d_samples[in_samples], d_verts[in_verts]
-    if not len(picked) and not len(picked_verts):
-        return float("nan"), float("nan"), 0
-    largest = float(max(picked.max(initial=0.0), picked_verts.max(initial=0.0)))
-    mean = float(picked.mean()) if len(picked) else float(picked_verts.mean())
-    return largest, mean, int(len(picked))
+    return hausdorff, mean, len(samples) + len(verts), angles
 
 
 def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
@@ -250,14 +273,21 @@ def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
     return n
 
 
-def _normal_angles(samples, tri, bary, nearest, normals_a, v_b, f_b, normals_b) -> np.ndarray:
+def _closest_bary(points, nearest, v_b, f_b) -> np.ndarray:
+    """(k, 3) barycentric coordinates of each point's closest point on b's triangle ``nearest``."""
+    from ._core import core
+
+    on_b = f_b[nearest]
+    at, _ = core.geometry.closest_on_triangles(points, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
+    return at
+
+
+def _normal_angles(tri, bary, nearest, at, normals_a, normals_b) -> np.ndarray:
     """Degrees between a's shading normal at each sample (triangle ``tri``, barycentric
-    ``bary``) and b's at the closest point on b's triangle ``nearest``."""
+    ``bary``) and b's at the closest point (barycentric ``at``) on b's triangle ``nearest``."""
     from ._core import core
 
     shading = core.shading
-    on_b = f_b[nearest]
-    at, _ = core.geometry.closest_on_triangles(samples, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
     return shading.angles_degrees(shading.interpolate(normals_a, tri, bary),
                                   shading.interpolate(normals_b, nearest, at))
 
@@ -271,7 +301,8 @@ def _normal_keys(angles: np.ndarray) -> dict:
 
 
 def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
-                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None, src_region=None) -> dict:
+                      samples_per_unit_area=None, n_samples=None, seed=0, normals=None,
+                      keep_samples=False) -> dict:
     """Two-sided Hausdorff and mean surface distance between two triangle meshes.
 
     src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
@@ -282,10 +313,6 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     normals: optional (src corner normals, dst corner normals), each (m, 3, 3) per
     triangle corner of its mesh: also the shading-normal deviation (normal_deviation's
     keys), from the closest points the src->dst distances found (no queries of its own).
-    src_region: optional (m_src,) bool, a region of src's triangles (e.g. what a shape key
-    moves): also the distances there, both ways, from the same queries: src's points on
-    those triangles to dst, and dst's points whose closest point of src is on them to
-    src (a LOD's triangles over the region, whichever of them the region's samples miss).
 
     Returns a dict of floats (distances in mesh units unless *_percent):
       hausdorff, mean, hausdorff_percent, mean_percent, diagonal,
@@ -293,10 +320,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
       points_src, points_dst (query points used per direction),
       seconds_src_to_dst, seconds_dst_to_src, seconds (wall time, tree builds included);
       with ``normals``: normal_mean_degrees, normal_p95_degrees, normal_max_degrees,
-      normal_points; with ``src_region``: region_hausdorff, region_mean (two-sided, as
-      above, over the points in the region; NaN for an empty region), region_percent
-      versions, region_mean_src_to_dst, region_mean_dst_to_src, region_samples_src,
-      region_samples_dst (area samples in the region per direction).
+      normal_points; with ``keep_samples``: ``sampled``, a :class:`Sampled` (every
+      point's own distance, where it lies and where its closest point is; the numbers
+      above are the same with or without it).
     """
     t0 = time.perf_counter()
     vs, fs = _as_mesh(src_vertices, src_faces, "src")
@@ -307,19 +333,13 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     shading = None
     if normals is not None:
         shading = (_corner_normals(normals[0], fs, "src"), vd, fd, _corner_normals(normals[1], fd, "dst"))
-    region = None
-    if src_region is not None:
-        region = np.asarray(src_region, dtype=bool)
-        if region.shape != (len(fs),):
-            raise ValueError(f"src_region must be a ({len(fs)},) bool array, one per src triangle, "
-                             f"got shape {region.shape}")
 
-    h_sd, m_sd, k_src, angles, in_src = _one_direction(
-        vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd), shading,
-        None if region is None else ("own", region))
+    kept = ({}, {}) if keep_samples else None
+    h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
+                                               shading, kept and ((vd, fd), kept[0]))
     t1 = time.perf_counter()
-    h_ds, m_ds, k_dst, _, in_dst = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
-                                                  region=None if region is None else ("nearest", region))
+    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
+                                          keep=kept and ((vs, fs), kept[1]))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)
@@ -344,22 +364,54 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     }
     if angles is not None:
         report.update(_normal_keys(angles))
-    if region is not None:
-        report.update(_region_keys(in_src, in_dst, scale))
+    if kept is not None:
+        report["sampled"] = Sampled(**{f"src_{k}": v for k, v in kept[0].items()},
+                                    **{f"dst_{k}": v for k, v in kept[1].items()})
     return report
 
 
-def _region_keys(in_src: tuple, in_dst: tuple, scale: float) -> dict:
-    """surface_deviation's region_* keys from each direction's _region_stats: the largest
-    of both, the mean of the directions that have points in the region."""
-    largest = np.array([in_src[0], in_dst[0]])
-    means = np.array([in_src[1], in_dst[1]])
-    hausdorff = float(np.nanmax(largest)) if np.isfinite(largest).any() else float("nan")
-    mean = float(np.nanmean(means)) if np.isfinite(means).any() else float("nan")
-    return {"region_hausdorff": hausdorff, "region_mean": mean,
-            "region_hausdorff_percent": hausdorff * scale, "region_mean_percent": mean * scale,
-            "region_mean_src_to_dst": in_src[1], "region_mean_dst_to_src": in_dst[1],
-            "region_samples_src": in_src[2], "region_samples_dst": in_dst[2]}
+def region_deviation(sampled: Sampled, src_faces, region) -> dict:
+    """The distances over a region of src's triangles (e.g. what a shape key moves), both
+    ways, from the points surface_deviation(keep_samples=True) measured (``sampled``):
+    src's samples on those triangles and the vertices they use, to dst; dst's samples and
+    vertices whose closest point of src is on them, to src (a LOD triangle across the
+    region counts, whichever of it the region's own samples miss).
+
+    ``src_faces``: src's (m, 3) triangles; ``region``: (m,) bool. Returns, in mesh units:
+    region_hausdorff (the largest over both directions' points in the region),
+    region_mean (the mean of each direction's mean over its area samples there, as the
+    two-sided mean; over its vertices when no sample fell there), region_mean_src_to_dst,
+    region_mean_dst_to_src, region_samples_src, region_samples_dst (area samples in the
+    region per direction); NaN where no point is in the region."""
+    f = np.asarray(src_faces, dtype=np.int64)
+    mask = np.asarray(region, dtype=bool)
+    if mask.shape != (len(f),):
+        raise ValueError(f"region must be a ({len(f)},) bool array, one per src triangle, got shape {mask.shape}")
+    if sampled.dst_nearest is None or sampled.dst_vertex_nearest is None:
+        raise ValueError("a region needs where dst's points are closest to src: measure with keep_samples=True")
+    in_vertex = np.zeros(int(f.max(initial=-1)) + 1, dtype=bool)
+    in_vertex[f[mask]] = True  # a vertex is in the region when a triangle of the region uses it
+    src = _region_stats(sampled.src_distance, mask[sampled.src_triangle], sampled.src_vertex_distance,
+                        in_vertex[sampled.src_vertices])
+    dst = _region_stats(sampled.dst_distance, mask[sampled.dst_nearest], sampled.dst_vertex_distance,
+                        mask[sampled.dst_vertex_nearest])
+    largest, means = np.array([src[0], dst[0]]), np.array([src[1], dst[1]])
+    return {"region_hausdorff": float(np.nanmax(largest)) if np.isfinite(largest).any() else float("nan"),
+            "region_mean": float(np.nanmean(means)) if np.isfinite(means).any() else float("nan"),
+            "region_mean_src_to_dst": src[1], "region_mean_dst_to_src": dst[1],
+            "region_samples_src": src[2], "region_samples_dst": dst[2]}
+
+
+def _region_stats(d_samples, in_samples, d_verts, in_verts) -> tuple:
+    """(largest distance, mean distance, area samples) over the points in a region: the
+    largest over its samples and vertices, the mean over its area samples (over its
+    vertices when no sample fell in it); NaN when no point did."""
+    picked, picked_verts = np.asarray(d_samples)[in_samples], np.asarray(d_verts)[in_verts]
+    if not len(picked) and not len(picked_verts):
+        return float("nan"), float("nan"), 0
+    largest = float(max(picked.max(initial=0.0), picked_verts.max(initial=0.0)))
+    mean = float(picked.mean()) if len(picked) else float(picked_verts.mean())
+    return largest, mean, int(len(picked))
 
 
 def normal_deviation(src_vertices, src_faces, src_normals, dst_vertices, dst_faces, dst_normals, *,
@@ -388,7 +440,7 @@ def normal_deviation(src_vertices, src_faces, src_normals, dst_vertices, dst_fac
     samples, tri, bary = _sample_surface(vs, fs, _sample_count(vs, fs, samples_per_unit_area, n_samples),
                                          _surface_rng(seed, vs, fs))
     _, nearest = _distances(_build_tree(vd, fd), samples, with_faces=True)
-    report = _normal_keys(_normal_angles(samples, tri, bary, nearest, ns, vd, fd, nd))
+    report = _normal_keys(_normal_angles(tri, bary, nearest, _closest_bary(samples, nearest, vd, fd), ns, nd))
     report["seconds"] = time.perf_counter() - t0
     return report
 

@@ -8,8 +8,6 @@ Writing makes a new mesh (and its object's vertex groups and shape keys) from a 
 from __future__ import annotations
 
 import contextlib
-from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
 
@@ -18,76 +16,8 @@ import bpy
 from ._core import core
 from . import edges as edge_util
 from . import vertex_groups
-
-
-@dataclass
-class ColorLayer:
-    """A colour attribute: data is (n, 4) for domain POINT, (m, 3, 4) for CORNER."""
-
-    name: str
-    domain: str  # 'POINT' or 'CORNER'
-    data_type: str  # 'FLOAT_COLOR' or 'BYTE_COLOR'
-    data: np.ndarray
-
-
-@dataclass
-class ShapeKeyData:
-    """A shape key as offsets from the basis, plus the settings the LOD copies."""
-
-    name: str
-    offsets: np.ndarray  # (n, 3)
-    value: float = 0.0
-    slider_min: float = 0.0
-    slider_max: float = 1.0
-    mute: bool = False
-    relative_key: str = ""
-    vertex_group: str = ""
-    interpolation: str = 'KEY_LINEAR'
-
-
-@dataclass
-class MeshData:
-    """A triangulated mesh and the data it carries, all as NumPy arrays.
-
-    Per vertex: vertices (n, 3), group_weights (n, g), point colours, shape-key offsets.
-    Per triangle: faces (m, 3), material_index, smooth, smooth_group (the input's
-    smoothing region, so the LOD splits normals where the source did).
-    Per triangle corner (m, 3, k): UV maps, corner colours.
-    Edges as (k, 2) vertex pairs: sharp_edges, seam_edges; seam_region labels the
-    triangles by the regions the seams cut the surface into (so the LOD's seams can be
-    marked where the source's were).
-    """
-
-    vertices: np.ndarray
-    faces: np.ndarray
-    material_index: np.ndarray
-    smooth: np.ndarray
-    smooth_group: np.ndarray
-    uv_maps: dict = field(default_factory=dict)
-    uv_active: Optional[str] = None
-    uv_render: Optional[str] = None
-    colors: list = field(default_factory=list)
-    color_active: Optional[str] = None
-    color_render: Optional[str] = None
-    group_names: list = field(default_factory=list)
-    group_weights: Optional[np.ndarray] = None
-    basis_name: str = "Basis"
-    shape_keys: list = field(default_factory=list)
-    shape_use_relative: bool = True
-    sharp_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
-    seam_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
-    seam_region: Optional[np.ndarray] = None  # (m,) per triangle: the region between seams
-    # (m, 3, 3) unit normal per triangle corner when the mesh has custom split normals
-    # (an artist's or a Weighted Normal modifier's shading), else None.
-    custom_normals: Optional[np.ndarray] = None
-    # (m, 3, 3) the normal of each triangle corner as Blender shades the mesh (custom,
-    # smooth or flat): what a LOD's shading is measured against. Set by read_mesh; None
-    # on the LODs' data (core.shading.corner_normals gives theirs).
-    corner_normals: Optional[np.ndarray] = None
-
-    @property
-    def has_shape_keys(self) -> bool:
-        return bool(self.shape_keys)
+# The arrays themselves are bpy-free (mesh_data.py); named here as always.
+from .mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
 
 
 def _get(collection, prop, count, dtype, width=1):
@@ -330,6 +260,9 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         if data.color_render and data.color_render in mesh.color_attributes and hasattr(
                 mesh.color_attributes, "default_color_name"):
             mesh.color_attributes.default_color_name = data.color_render
+        write_point_floats(mesh, data.point_floats)
+        for key, value in data.mesh_properties.items():
+            mesh[key] = value
 
         n_edges = len(mesh.edges)
         edge_verts = _get(mesh.edges, "vertices", n_edges, np.int32, 2).reshape(n_edges, 2)
@@ -348,6 +281,17 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         vertex_groups.remove_mesh(mesh)
         raise
     return mesh
+
+
+def write_point_floats(mesh: bpy.types.Mesh, values: dict) -> None:
+    """Float attributes on the points of ``mesh``, {name: (n,) values}, each replacing
+    any attribute of that name."""
+    for name, array in values.items():
+        old = mesh.attributes.get(name)
+        if old is not None:
+            mesh.attributes.remove(old)
+        attr = mesh.attributes.new(name, 'FLOAT', 'POINT')
+        attr.data.foreach_set("value", np.asarray(array, dtype=np.float32).reshape(-1))
 
 
 def shading_normals(data: MeshData) -> np.ndarray:

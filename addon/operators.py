@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's operators: Generate LODs, Paint Importance, Importance from Armature,
-Importance from Shape Keys, Preview Importance.
+Importance from Shape Keys, Preview Importance, Paint Limit, Show Deviation and its way back.
 
 Every failure reaches the user as a ``self.report`` line (and {'CANCELLED'}), never as
 a Python traceback; unexpected errors are printed to the console for bug reports.
@@ -14,12 +14,12 @@ import numpy as np
 
 import bpy
 
-from . import lod, vertex_groups
+from . import deviation_view, lod, vertex_groups
 from .importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
 from .props import settings_properties
-from .settings import IMPORTANCE_GROUP, PREVIEW_GROUP
+from .settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',
@@ -269,6 +269,32 @@ class OBJECT_OT_line_quadric_lod_paint(_ImportanceOperator, bpy.types.Operator):
         return {'FINISHED'}
 
 
+class OBJECT_OT_line_quadric_lod_paint_limit(_ImportanceOperator, bpy.types.Operator):
+    """Paint how far the LODs may move: creates (or reuses) the vertex group "LOD_Limit", makes it the Limit Group and enters Weight Paint mode on it (weight 1 = within Limit, 0 = free)"""
+
+    bl_idname = "object.line_quadric_lod_paint_limit"
+    bl_label = "Paint Limit"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    def execute(self, context):
+        if self.report_blocker(context):
+            return {'CANCELLED'}
+        ob = context.active_object
+        group = ob.vertex_groups.get(LIMIT_GROUP) or ob.vertex_groups.new(name=LIMIT_GROUP)
+        ob.vertex_groups.active_index = group.index
+        panel = scene_settings(context)
+        if panel is not None:
+            panel.limit_group = group.name
+        if ob.mode != 'WEIGHT_PAINT':
+            try:
+                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            except RuntimeError as ex:
+                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
+                return {'CANCELLED'}
+        self.report({'INFO'}, f'Painting "{LIMIT_GROUP}": weight 1 = the LODs stay within Limit, 0 = free')
+        return {'FINISHED'}
+
+
 class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Operator):
     """Bake importance from the skin weights into the vertex group "LOD_Importance" (paper Sec. 5.3: vertices near joints matter), so it can be seen and repainted"""
 
@@ -367,10 +393,79 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         return {'FINISHED'}
 
 
+class OBJECT_OT_line_quadric_lod_show_deviation(bpy.types.Operator):
+    """Show where the active LOD differs from its source: its distance per vertex as colours (blue on the source, red at its largest), in Solid shading by attribute; measured now if the LOD does not carry it. The source is not changed"""
+
+    bl_idname = "object.line_quadric_lod_show_deviation"
+    bl_label = "Show Deviation"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        blocker = deviation_view.blocker(context)
+        if blocker:
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set(blocker)
+            return False
+        return True
+
+    def execute(self, context):
+        blocker = deviation_view.blocker(context)
+        if blocker:
+            self.report({'ERROR'}, blocker)
+            return {'CANCELLED'}
+        ob = context.active_object
+        settings = scene_settings(context)
+        use_modifiers = settings.use_modifiers if settings is not None else True
+        try:
+            measured = not deviation_view.has_heat(ob.data)
+            if measured:
+                deviation_view.paint(context, ob, use_modifiers)
+            switched = deviation_view.show(context, settings, ob) if settings is not None else 0
+        except LodError as ex:
+            self.report({'ERROR'}, str(ex))
+            return {'CANCELLED'}
+        except Exception as ex:
+            traceback.print_exc()
+            self.report({'ERROR'}, f"{self.bl_label} failed ({type(ex).__name__}: {ex})")
+            return {'CANCELLED'}
+        scale = ob.data.get(deviation_view.level_deviation.SCALE_PROPERTY, 0.0)
+        source = deviation_view.source_of(ob)
+        self.report({'INFO'}, f'"{ob.name}": {"measured, " if measured else ""}red = {scale:.4g} '
+                              f'(its largest distance to "{source.name}", object units), blue = on it'
+                              + ("" if switched else "; no 3D viewport to switch"))
+        return {'FINISHED'}
+
+
+class OBJECT_OT_line_quadric_lod_deviation_back(bpy.types.Operator):
+    """Put the viewport shading and the LODs' active colour back as they were before Show Deviation"""
+
+    bl_idname = "object.line_quadric_lod_deviation_back"
+    bl_label = "Back"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        settings = scene_settings(context)
+        if settings is None or not settings.deviation_view:
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set("Show Deviation has not switched the view")
+            return False
+        return True
+
+    def execute(self, context):
+        restored = deviation_view.back(scene_settings(context))
+        self.report({'INFO'}, f"Shading put back in {restored} viewport{'s' if restored != 1 else ''}")
+        return {'FINISHED'}
+
+
 classes = (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_paint_limit,
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_preview_importance,
+    OBJECT_OT_line_quadric_lod_show_deviation,
+    OBJECT_OT_line_quadric_lod_deviation_back,
 )

@@ -9,11 +9,14 @@ from .settings import PRESERVE_PAIRS, LodSettings
 from .importance import expected_gain, pose_weight
 from .operators import (
     OBJECT_OT_line_quadric_lod,
+    OBJECT_OT_line_quadric_lod_deviation_back,
     OBJECT_OT_line_quadric_lod_from_armature,
     OBJECT_OT_line_quadric_lod_from_shape_keys,
     OBJECT_OT_line_quadric_lod_paint,
+    OBJECT_OT_line_quadric_lod_paint_limit,
     OBJECT_OT_line_quadric_lod_preview_importance,
     has_shape_keys,
+    OBJECT_OT_line_quadric_lod_show_deviation,
 )
 
 
@@ -26,6 +29,29 @@ def chain_preview(settings) -> str:
     if kind == "triangles":
         return " · ".join(f"{c:,}" for c in values) + " triangles"
     return " · ".join(f"{100 * r:.3g}%" for r in values)
+
+
+def breakdown_lines(level: dict) -> list:
+    """The Last Run box's lines for one level beyond its row: the largest distance per
+    material (when there are several) and per painted region, and the posed distance over
+    the rig's actions (addon/level_deviation.py, addon/posed_deviation.py)."""
+    lines = []
+    name = f"LOD{level['level']}"
+    materials = level.get("materials") or {}
+    if len(materials) > 1:
+        lines.append(f"{name} max % by material: " + ", ".join(
+            f"{m} {s['max_percent']:.3f}" for m, s in materials.items() if s["max_percent"] is not None))
+    regions = level.get("regions") or {}
+    if regions:
+        lines.append(f"{name} max % by region: " + ", ".join(
+            f"{r} {s['max_percent']:.3f}" if s["max_percent"] is not None else f"{r} -" for r, s in regions.items()))
+    posed = level.get("posed")
+    if posed and posed.get("frames"):
+        lines.append(f"{name} posed, {posed['frames']} frames: max {posed['hausdorff_percent']['max']:.3f} %, "
+                     f"mean {posed['mean_percent']['mean']:.4f} %")
+    elif posed and posed.get("note") and level["level"] == 1:  # (the same for every level)
+        lines.append(f"{name} posed: {posed['note']}")
+    return lines
 
 
 class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
@@ -102,6 +128,20 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
             box.operator(OBJECT_OT_line_quadric_lod_preview_importance.bl_idname, icon='HIDE_OFF')
 
         box = layout.box()
+        box.label(text="Limit", icon='CON_DISTLIMIT')
+        if is_mesh:
+            box.prop_search(settings, "limit_group", ob, "vertex_groups", text="Group")
+        else:
+            box.prop(settings, "limit_group", text="Group")
+        if settings.limit_group:
+            if is_mesh and settings.limit_group not in ob.vertex_groups:
+                box.label(text=f'"{ob.name}" has no group "{settings.limit_group}"', icon='ERROR')
+            row = box.row(align=True)
+            row.prop(settings, "limit_distance")
+            row.prop(settings, "limit_unit", text="")
+        box.operator(OBJECT_OT_line_quadric_lod_paint_limit.bl_idname, icon='BRUSH_DATA')
+
+        box = layout.box()
         box.label(text="Preserve", icon='LOCKED')
         col = box.column(align=True)
         for flag, strength in PRESERVE_PAIRS:
@@ -114,6 +154,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "use_modifiers")
         col.prop(settings, "measure_deviation")
+        col.prop(settings, "deviation_colors")
         col.prop(settings, "hard_edge_angle")
         row = col.row(align=True)
         row.prop(settings, "bake_normals")
@@ -125,6 +166,11 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         op = layout.operator(OBJECT_OT_line_quadric_lod.bl_idname, icon='MOD_DECIM')
         for name in LodSettings.names():
             setattr(op, name, getattr(settings, name))
+        # The active LOD's distance to its source as colours (addon/deviation_view.py), and back.
+        row = layout.row(align=True)
+        row.operator(OBJECT_OT_line_quadric_lod_show_deviation.bl_idname, icon='MOD_VERTEX_WEIGHT')
+        if settings.deviation_view:
+            row.operator(OBJECT_OT_line_quadric_lod_deviation_back.bl_idname, icon='LOOP_BACK')
 
         self.draw_report(layout, settings)
 
@@ -167,6 +213,16 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                                    f"{imp['painted_kept_percent']:.0f} %, "
                                    f"the rest {imp['rest_kept_percent']:.0f} % "
                                    f"({imp['painted_density']:.1f}x as dense)")
+            for level in rep["levels"]:
+                # The painted limit, measured (addon/limits.py): 1 = at the limit.
+                if level.get("limit"):
+                    kept = level["limit"]
+                    box.label(text=f"LOD{level['level']} limit \"{kept['group']}\": {100 * kept['limit_used']:.0f} % "
+                                   f"of it used, region max {kept['region_hausdorff_percent']:.3f} %",
+                              icon='CHECKMARK' if kept["within"] else 'ERROR')
+            for level in rep["levels"]:
+                for line in breakdown_lines(level):
+                    box.label(text=line)
             for warning in rep.get("warnings", []):
                 box.label(text=warning, icon='ERROR')
 

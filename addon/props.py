@@ -46,6 +46,10 @@ class LineQuadricLodSettings(bpy.types.PropertyGroup):
         "last_report": StringProperty(
             name="Last Report", default="", options={'HIDDEN'},
             description="JSON list of the last run's per-object reports"),
+        "deviation_view": StringProperty(
+            name="Deviation View", default="", options={'HIDDEN'},
+            description="JSON: what the viewports and LOD meshes showed before Show Deviation "
+                        "(addon/deviation_view.py), for Back"),
     }
 
     def report_list(self) -> list:

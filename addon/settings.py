@@ -52,6 +52,7 @@ class LodCancelled(Exception):
 
 
 IMPORTANCE_GROUP = "LOD_Importance"  # the vertex group Paint Importance and the sample use
+LIMIT_GROUP = "LOD_Limit"  # the vertex group Paint Limit makes (addon/limits.py)
 PREVIEW_GROUP = "LOD_Importance_Preview"  # where Preview Importance writes what it shows
 
 IMPORTANCE_SOURCES = (
@@ -76,6 +77,11 @@ TARGET_KINDS = (
                                "its bounding-box diagonal"),
     ('SCREEN', "Screen Size", "The largest error in pixels when the object covers a given "
                               "height on screen"),
+)
+LIMIT_UNITS = (
+    ('PERCENT', "% of Size", "Percent of the object's bounding-box diagonal (the asset's, when "
+                             "several objects are one asset)"),
+    ('DISTANCE', "Scene Units", "A distance in scene units (a single object's own units)"),
 )
 # Kept only so files and scripts that set it still load: both act alike since issue 19.
 IMPORTANCE_MODES = (
@@ -266,6 +272,21 @@ SETTINGS = (
             cli={"metavar": "S", "help": "importance strength, 0 to 1: about 1.5x as dense at 0.1, 4.5x at 0.5, "
                                          "nearly locked at 1 (default {default:g})"},
             core="quadric_scale = F(strength) ** g (addon/importance.py)"),
+    # Painted limits (issue 34, addon/limits.py): how far the LOD may move, not how dense it stays.
+    Setting("limit_group", "", "Limit Group",
+            "Vertex group painting how far the LOD may move: where its weight is 1 every LOD stays "
+            "within Limit of the source, at 0 the region is free, in between the limit grows as "
+            "1 / weight. The triangle target is met elsewhere; when the limit makes it unreachable "
+            "the LOD stops above it and says so",
+            core="vertex_max_error = limit / weight (addon/limits.py)"),
+    Setting("limit_distance", 0.1, "Limit",
+            "The largest distance to the source where the Limit Group's weight is 1, in percent "
+            "of the object's bounding-box diagonal (the whole asset's when several objects are one "
+            "asset) or in scene units (Limit Unit)",
+            low=0.0, low_open=True, blender={"min": 1e-6, "soft_max": 5.0, "precision": 3},
+            what="limit", core="vertex_max_error"),
+    Setting("limit_unit", 'PERCENT', "Limit Unit", "What Limit is measured in",
+            items=LIMIT_UNITS, core="(percent of the diagonal, or scene units)"),
     # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
     # scripts, files and the command line's --mode keep working.
     Setting("importance_mode", 'SOFT', "Mode", "No longer used (one calibrated mode); kept so older files load",
@@ -310,6 +331,17 @@ SETTINGS = (
             "Measure each LOD's distance to the source, and how far its shading normals "
             "turn from the source's, for the report (takes about a second per LOD on large meshes)",
             flag="--no-measure", cli={"help": "skip the deviation measurement (faster; quality is still reported)"}),
+    # Off by default, for the panel too: the attributes would travel into engine exports
+    # (FBX writes every colour attribute), and Show Deviation paints a LOD when asked.
+    Setting("deviation_colors", False, "Deviation Colors",
+            "Give each LOD its measured distance to the source per vertex: the colour attribute "
+            "\"LOD_Deviation\" (blue = on the source, red = the LOD's largest distance) and the float "
+            "attribute \"LOD_Deviation_Distance\"; measures the LODs like Measure Deviation. Off: Show "
+            "Deviation paints a LOD when asked",
+            flag="--deviation-colors",
+            cli={"help": "give each LOD the colour attribute LOD_Deviation (its distance to the source per "
+                         "vertex, blue 0 to red at the LOD's largest) and the float attribute "
+                         "LOD_Deviation_Distance (off by default: files for engines do not need them)"}),
 )
 BY_NAME = {s.name: s for s in SETTINGS}
 # The panel's Preserve rows and the command line's --no-preserve-X/--X-strength pairs.
@@ -317,6 +349,11 @@ PRESERVE_PAIRS = tuple((s.name, s.strength) for s in SETTINGS if s.strength)
 
 
 class _LodSettingsMethods:
+    def measuring(self) -> bool:
+        """Whether each LOD is measured against the source (Measure Deviation, or the
+        Deviation Colors that need the measurement)."""
+        return bool(self.measure_deviation or self.deviation_colors)
+
     @classmethod
     def names(cls) -> list:
         """The settings of the table (Blender property names), without the explicit chain."""

@@ -22,7 +22,7 @@ For each run, each key: the LOD with the key at 1 against the source with the ke
 (key_deviation.key_offsets, as the report does), two-sided mean and Hausdorff in % of the
 rest source's bounding-box diagonal, ``--samples`` area samples per surface (vertices on
 top), over the whole surface and over the key's region both ways, as the report measures
-it (key_deviation.key_region, measure.surface_deviation's src_region); the rest pose
+it (key_deviation.key_region, measure.region_deviation); the rest pose
 likewise, its region every key's together. An asset is measured as one mesh in world
 space. Ratios are Shape Keys over none (below 1 = closer). ``--keys-as-rest``: the keys'
 own error counts as the rest's (importance.KEY_WEIGHT_PER_STRENGTH 0), as before the
@@ -172,8 +172,8 @@ def simplify(ob, ratio: float, source: str, strength: float):
 def distances(data, level, samples: int) -> dict:
     """{"rest" or key name: (mean %, Hausdorff %, region mean %, region Hausdorff %)} of
     ``level`` against ``data``, each with the key at 1, as the report measures them
-    (key_deviation.py: the key's region both ways, measure.surface_deviation's
-    src_region); for rest, the region is every key's together."""
+    (key_deviation.py: the key's region both ways, measure.region_deviation); for rest,
+    the region is every key's together."""
     diagonal = measure.bbox_diagonal(data.vertices, data.faces)
     src, dst = key_deviation.offsets_of(data), key_deviation.offsets_of(level)
     regions = [key_deviation.key_region(src[k], data.faces) for k in range(len(src))]
@@ -183,7 +183,8 @@ def distances(data, level, samples: int) -> dict:
     out = {}
     for name, a, b, region in shapes:
         d = measure.surface_deviation(data.vertices + a, data.faces, level.vertices + b, level.faces,
-                                      n_samples=samples, seed=SEED, src_region=region)
+                                      n_samples=samples, seed=SEED, keep_samples=True)
+        d.update(measure.region_deviation(d.pop("sampled"), data.faces, region))
         out[name] = tuple(100.0 * d[key] / diagonal for key in ("mean", "hausdorff", "region_mean",
                                                                  "region_hausdorff"))
     return out

@@ -30,17 +30,23 @@ def as_faces(faces, n_vertices: int) -> np.ndarray:
     return f
 
 
-def limits(values, n: int, name: str) -> np.ndarray:
-    """(n,) distances > 0, infinite where there is no limit; ValueError otherwise."""
+def limits(values, n: int, levels: int, name: str) -> np.ndarray:
+    """(levels, n) distances > 0, infinite where there is no limit, from (n,) (every
+    level alike) or (levels, n) not decreasing along the chain; ValueError otherwise."""
     a = np.asarray(values)
-    if a.shape != (n,):
-        raise ValueError(f"{name} must have one value per vertex, shape ({n},), got {a.shape}")
+    if a.shape == (n,):
+        a = np.broadcast_to(a, (levels, n))
+    if a.shape != (levels, n):
+        raise ValueError(f"{name} must have one value per vertex, shape ({n},), or one row per target, "
+                         f"({levels}, {n}), got {a.shape}")
     a = a.astype(np.float64)
     if np.isnan(a).any():
         raise ValueError(f"{name} contains NaN (give inf where a vertex has no limit)")
     if (a <= 0).any():
         raise ValueError(f"{name} must be > 0, inf where there is no limit (found {a.min()}): "
                          f"lock the vertices that must not move")
+    if (a[1:] < a[:-1]).any():
+        raise ValueError(f"{name} must not decrease along the chain: each level goes on from the last")
     return a
 
 

@@ -176,10 +176,14 @@ def run(p: Problem) -> list:
     )
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
-    limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits)
-    if p.max_error is not None or limited.any():
+    # (Limits only grow along a chain: the first level's limited vertices are all there are.)
+    limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits[0])
+    if not limited.any():
+        p.vertex_limits = None
+    if p.max_error is not None or p.vertex_limits is not None:
         tracker = TrackedDistance(p.vertices, F, p.face_origin, p.run_faces,
-                                  p.vertex_limits if limited.any() else None, everywhere=p.max_error is not None)
+                                  None if p.vertex_limits is None else p.vertex_limits[0],
+                                  everywhere=p.max_error is not None)
         s.bound = DistanceBound(tracker, np.inf if p.max_error is None else p.max_error[0],
                                 np.zeros(len(conn.edges), dtype=np.int8), limited)
     if p.options.shape_attributes or p.pose_attributes:
@@ -212,10 +216,8 @@ def run(p: Problem) -> list:
         if len(s.F) <= target + 0 or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
-            if s.bound is not None and s.bound.global_bound and level < len(p.targets) and \
-                    p.max_error[level] > s.bound.limit:
-                _loosen(s, p.max_error[level])  # a chain of bounds: each level under its own
-                if stop in (STOP_MAX_ERROR, STOP_LIMIT):  # (a few of the waiting edges may pass now)
+            if s.bound is not None and level < len(p.targets) and _loosen(s, p, level):
+                if stop in (STOP_MAX_ERROR, STOP_LIMIT):  # (waiting edges may pass now)
                     stop = STOP_TARGET
             continue
         passes += 1
@@ -228,11 +230,20 @@ def run(p: Problem) -> list:
     return results
 
 
-def _loosen(s: State, bound: float):
-    """The next, larger distance bound of a chain: what the last one rejected gets a new
-    chance (and, as in _unstick, the pass may have found no candidate: no cost to reuse)."""
-    s.bound.limit = bound
-    _forget_rejections(s)
+def _loosen(s: State, p: Problem, level: int) -> bool:
+    """The next level's bounds, when larger (a chain: each level under its own): what the
+    last ones rejected gets a new chance (and, as in _unstick, the pass may have found
+    no candidate: no cost to reuse). Whether any bound grew."""
+    grew = False
+    if s.bound.global_bound and p.max_error[level] > s.bound.limit:
+        s.bound.limit = p.max_error[level]
+        grew = True
+    if p.vertex_limits is not None and (p.vertex_limits[level] > p.vertex_limits[level - 1]).any():
+        s.bound.tracker.set_limits(p.vertex_limits[level])
+        grew = True
+    if grew:
+        _forget_rejections(s)
+    return grew
 
 
 def _forget_rejections(s: State):

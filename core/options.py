@@ -37,7 +37,8 @@ class Options:
         Hausdorff distance (addon/measure.py) can come out somewhat above it, up to
         about 1.4x on the meshes measured: points between the tracked ones.
       vertex_max_error: (n,) distances in mesh units (inf where free), or None: painted
-        limits, a local max_error. The LOD stays within vertex_max_error[i] of the source
+        limits, a local max_error; for simplify_chain also (targets, n), one row per
+        level, not decreasing along the chain. The LOD stays within vertex_max_error[i] of the source
         around vertex i (tracked both ways as for max_error; a point inside a face takes
         the limit its corners' limits give through the barycentric mean of 1 / limit, so
         a painted weight w over a limit L, L / w, interpolates as w does). The count

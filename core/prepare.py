@@ -41,7 +41,7 @@ class Problem:
     vertex_origin: np.ndarray
     targets: list
     max_error: object  # one bound per target, normalised units, or None
-    vertex_limits: object  # (n,) Options.vertex_max_error, normalised units (inf: free), or None
+    vertex_limits: object  # (targets, n) Options.vertex_max_error, normalised units (inf: free), or None
     line_weights: np.ndarray  # w_i of Eq. 16, per vertex
     quadric_scale: object  # (n,) >= 1 (Sec. 4.4.1), or None
     locked: np.ndarray  # (n,) bool
@@ -102,7 +102,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         if quadric_scale is not None:
             quadric_scale = _max_by_group(quadric_scale, rep, n)
         if tightness is not None:
-            tightness = _max_by_group(tightness, rep, n)
+            tightness = np.stack([_max_by_group(row, rep, n) for row in tightness])
     problem = locality.reorder(Problem(
         options=c.options,
         vertices=vn,
@@ -140,7 +140,8 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
     m = len(f)
     tgt = checks.targets(targets, m)
     max_error = None if o.max_error is None else checks.max_errors(o.max_error, len(tgt))
-    vertex_limits = None if o.vertex_max_error is None else checks.limits(o.vertex_max_error, n, "vertex_max_error")
+    vertex_limits = None if o.vertex_max_error is None else checks.limits(o.vertex_max_error, n, len(tgt),
+                                                                           "vertex_max_error")
     line_weight = checks.non_negative(o.line_weight, "line_weight")
     line_weights = (np.full(n, line_weight) if o.line_weights is None
                     else checks.per_vertex(o.line_weights, n, "line_weights"))

@@ -79,21 +79,21 @@ class TrackedDistance:
         # The input face a point lies inside (-1 for vertices): the LOD-to-source side
         # measures against the faces the fan holds.
         self.source_face = np.concatenate([np.full(len(vertex_points), -1, dtype=np.int64), on_face])
-        # Painted limits (Options.vertex_max_error) as tightness, 1 / limit (0: free): a
-        # point inside a face takes its corners' barycentric mean, so a painted weight
-        # over a limit interpolates as the weight does; an input face, its tightest corner.
-        tight = np.zeros(len(vertices)) if vertex_limits is None else _inverse(vertex_limits)
-        self.point_tightness = np.concatenate([tight[vertex_points],
-                                               np.einsum("gk,fk->fg", grid, tight[faces]).ravel()])
-        self.face_tightness = np.zeros(input_faces)
-        self.face_tightness[face_ids] = tight[faces].max(axis=1)
-        if not everywhere:
-            # Only the limits bound the distance: a free point never needs measuring.
-            kept = self.point_tightness > 0
-            self.points, self.face_of_point = self.points[kept], self.face_of_point[kept]
-            self.source_face, self.point_tightness = self.source_face[kept], self.point_tightness[kept]
-        self.distance = np.zeros(len(self.points))
         self.input_faces = input_faces
+        # (Kept only under painted limits: F is large, and the engine lets go of its own.)
+        self._limit_frame = None if vertex_limits is None else (vertex_points, faces, face_ids, grid)
+        self._kept = None
+        self.point_tightness = np.zeros(len(self.points))
+        self.face_tightness = np.zeros(input_faces)
+        if vertex_limits is not None:
+            self.set_limits(vertex_limits)
+        if not everywhere:
+            # Only the limits bound the distance: a free point never needs measuring (nor
+            # later, as limits only grow along a chain).
+            self._kept = self.point_tightness > 0
+            self.points, self.face_of_point = self.points[self._kept], self.face_of_point[self._kept]
+            self.source_face, self.point_tightness = self.source_face[self._kept], self.point_tightness[self._kept]
+        self.distance = np.zeros(len(self.points))
         # Per input face id: a bound on the distance from the live face that descends from
         # it to the source (0 while it is the input face itself; sampled once measured).
         self.face_far = np.zeros(input_faces)
@@ -103,6 +103,20 @@ class TrackedDistance:
         self.limit_rejected = np.zeros(0, dtype=np.int64)  # among them, those only a painted limit rejected
         self._pending = []
         self._index()
+
+    def set_limits(self, vertex_limits):
+        """Painted limits (Options.vertex_max_error, (n,) normalised, inf: free; given
+        at construction too), kept as tightness, 1 / limit (0: free): a point inside a
+        face takes its corners' barycentric mean, so a painted weight over a limit
+        interpolates as the weight does; an input face, its tightest corner."""
+        vertex_points, faces, face_ids, grid = self._limit_frame
+        tight = _inverse(vertex_limits)
+        self.point_tightness = np.concatenate([tight[vertex_points],
+                                               np.einsum("gk,fk->fg", grid, tight[faces]).ravel()])
+        self.face_tightness = np.zeros(self.input_faces)
+        self.face_tightness[face_ids] = tight[faces].max(axis=1)
+        if self._kept is not None:
+            self.point_tightness = self.point_tightness[self._kept]
 
     def _index(self):
         """Points grouped by face id (CSR), after the assignments changed."""

@@ -125,13 +125,21 @@ def test_bad_inputs_change_nothing(res):
     assert res["errors_diff"] == {}
 
 
+OPTIONAL_OPERATORS = {"object.line_quadric_lod_from_shape_keys", "object.line_quadric_lod_show_deviation",
+                      "object.line_quadric_lod_deviation_back"}
+
+
 def test_panel_draws_in_every_state(res):
     assert res["panel_registered"], "bpy.types has no VIEW3D_PT_line_quadric_lod"
     assert res["panel_category"] == "LOD"
     draws = res["draws"]
     assert ["label", "Select a mesh object"] in draws["no_object"]
     ops = [x[1] for x in draws["NONE"] if x[0] == "operator"]
-    assert ops == ["object.line_quadric_lod_paint", "object.line_quadric_lod_from_armature", "object.line_quadric_lod"]
+    # In the panel's order; the shape-key bake and the deviation view come and go with their subjects.
+    assert [op for op in ops if op not in OPTIONAL_OPERATORS] == [
+        "object.line_quadric_lod_paint", "object.line_quadric_lod_from_armature",
+        "object.line_quadric_lod_paint_limit", "object.line_quadric_lod"]
+    assert ["prop_search", "limit_group"] in draws["NONE"]
     props = {x[1] for x in draws["NONE"] if x[0] == "prop"}
     assert {"ratio", "levels", "level_factor", "target_triangles", "line_weight", "importance_source",
             "preserve_boundaries", "preserve_seams", "preserve_sharp", "preserve_materials",
@@ -160,6 +168,7 @@ PANEL_DEFAULTS = {
     "preserve_sharp": ["Sharp Edges", ""], "sharp_strength": ["", "1.00"],
     "preserve_materials": ["Material Borders", ""], "material_strength": ["", "1.00"],
     "use_modifiers": ["Apply Modifiers", ""], "measure_deviation": ["Measure Deviation", ""],
+    "deviation_colors": ["Deviation Colors", ""],
     "hard_edge_angle": ["Hard Edges", "0.0"], "bake_normals": ["Bake Normals", ""], "bake_resolution": ["", "1024"],
 }
 
@@ -168,8 +177,8 @@ def test_panel_recording_names_values_and_greys_out(res):
     items = res["draw_items"]
     shown = {i[1]: i[2:4] for i in items["NONE"] if i[0] == "prop"}
     assert shown == PANEL_DEFAULTS
-    assert [i[2] for i in items["NONE"] if i[0] == "operator"] == [
-        "Paint Importance", "Importance from Armature", "Generate LODs"]
+    assert [i[2] for i in items["NONE"] if i[0] == "operator" and i[1] not in OPTIONAL_OPERATORS] == [
+        "Paint Importance", "Importance from Armature", "Paint Limit", "Generate LODs"]
     # Nothing greyed out by default but the bake's resolution (Bake Normals is off).
     assert [i[1] for i in items["NONE"] if not i[4]] == ["bake_resolution"], [i for i in items["NONE"] if not i[4]]
     assert ["label", None, "LOD1..3: 50% · 25% · 12.5%", None, True] in items["NONE"]

@@ -146,3 +146,18 @@ def test_every_source_vertex_stays_within_its_own_limit(seed, share, ratio, scal
     if r.stats.stop_reason == core.STOP_TARGET:
         assert len(r.faces) <= max(1, int(round(ratio * len(F))))
     assert (distance_to_mesh(V, r.vertices, r.faces) <= limits * (1 + 1e-9)).all()
+
+
+def test_a_chain_takes_one_row_of_limits_per_level_each_holding_at_its_level():
+    V, F = _bumpy_sphere(4)
+    d = _diagonal(V)
+    painted = np.where(V[:, 2] > 0, 1.0, np.inf)
+    limits = np.stack([painted * 0.001 * d, painted * 0.002 * d, painted * 0.004 * d])
+    results = core.simplify_chain(V, F, [2560, 1024, 256], vertex_max_error=limits)
+    for r, row in zip(results, limits):
+        check.assert_valid_result(r, V, F)
+        assert (distance_to_mesh(V, r.vertices, r.faces) <= row * (1 + 1e-9)).all()
+    # Each level goes on from the last under its own, larger limits: fewer triangles.
+    assert len(results[2].faces) < len(results[1].faces) < len(results[0].faces)
+    with pytest.raises(ValueError, match="must not decrease along the chain"):
+        core.simplify_chain(V, F, [2560, 1024], vertex_max_error=limits[::-1][:2])

@@ -202,7 +202,7 @@ def test_region_of_a_shifted_plane_is_as_far_as_the_plane(measured):
     r = measured["region_shifted"]
     for key in ("region_hausdorff", "region_mean", "region_mean_src_to_dst", "region_mean_dst_to_src"):
         assert r[key] == pytest.approx(0.1, abs=1e-6), key
-    assert r["region_mean_percent"] == pytest.approx(r["mean_percent"], rel=1e-5)
+    assert r["region_mean"] == pytest.approx(r["mean"], rel=1e-5)
     # The left half: half of each surface's area samples, both ways.
     for side in ("src", "dst"):
         assert abs(r["region_samples_" + side] / 20_000 - 0.5) < 0.02, r["region_samples_" + side]
@@ -234,7 +234,8 @@ def test_an_empty_region_has_no_distances(measured):
     for name in ("region_step_none", "region_flap_none"):
         r = measured[name]
         assert r["region_samples_src"] == r["region_samples_dst"] == 0
-        assert all(math.isnan(r[key]) for key in ("region_hausdorff", "region_mean", "region_mean_percent")), r
+        assert all(math.isnan(r[key]) for key in ("region_hausdorff", "region_mean", "region_mean_src_to_dst",
+                                                  "region_mean_dst_to_src")), r
         assert r["mean"] > 0.0  # the whole surface is still measured
 
 
@@ -246,7 +247,7 @@ def test_invalid_input_raises_value_error_naming_the_problem(measured):
     assert "outside" in e["index"]
     assert "not both" in e["both_counts"]
     assert "NaN" in e["nan"]
-    assert "src_region must be a (200,) bool array" in e["region_shape"]
+    assert "region must be a (200,) bool array" in e["region_shape"]
 
 
 def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):

@@ -165,6 +165,16 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="on objects with shape keys, Source Shape Keys: the vertices the keys move "
                         "are kept denser, the more the farther they move (docs/weight-painting.md); "
                         "each LOD's report then has every key's deviation, measured with the key at 1")
+    g.add_argument("--limit-group", metavar="NAME",
+                   help="vertex group painting how far the LODs may move: where its weight is 1 each "
+                        "LOD stays within --limit of the source, at 0 the region is free, in between "
+                        "the limit grows as 1/weight; the triangle target is met elsewhere "
+                        "(docs/weight-painting.md)")
+    g.add_argument("--limit", type=_deviation, metavar="D",
+                   help="with --limit-group: the largest distance where its weight is 1, in scene units "
+                        "(the object's own with --per-part) or with %% in percent of the bounding-box "
+                        "diagonal of the input's objects together (each object's with --per-part), "
+                        "e.g. 0.1%%")
     add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
                       *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 
@@ -187,7 +197,7 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                    help="per object and LOD: triangles, seconds, Hausdorff and mean deviation, "
                         "triangle quality; a name ending in .jsonl gets one line per input as "
                         "each finishes, then a summary line (nothing is lost if the run stops)")
-    add_arguments(g, ["measure_deviation"])
+    add_arguments(g, ["measure_deviation", "deviation_colors"])
 
     g = p.add_argument_group("running")
     g.add_argument("--jobs", type=_positive_int, default=1, metavar="N",
@@ -227,6 +237,10 @@ def check_args(args) -> list:
             problems.append("--lods goes with one --max-error or --screen-size value (N LODs at doubling distances)")
     if args.importance_group is not None and not args.importance_group.strip():
         problems.append("--importance-group needs a vertex group name")
+    if args.limit_group is not None and not args.limit_group.strip():
+        problems.append("--limit-group needs a vertex group name")
+    if (args.limit_group is None) != (args.limit is None):
+        problems.append("--limit-group and --limit go together: the group paints where, the limit says how far")
     if args.output is not None:
         ext = Path(args.output).suffix.lower().lstrip(".")
         if ext not in OUTPUT_FORMATS:
@@ -264,6 +278,9 @@ def lod_settings(args, **overrides) -> LodSettings:
         chain = {"ratios" if kind == "ratios" else "triangle_counts": tuple(values)}
     if getattr(args, "bake_normals", None):
         chain.update(bake_normals=True, bake_resolution=args.bake_normals)
+    if getattr(args, "limit", None) is not None:
+        value, percent = parse_deviation(args.limit)
+        chain.update(limit_distance=value, limit_unit='PERCENT' if percent else 'DISTANCE')
     return settings_from_arguments(args, **chain, **overrides)
 
 

@@ -27,13 +27,16 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     from .progress import ProgressLines
 
     choices = sources.importance_choice(objects, args)
-    settings = [lod_settings(args, importance_source=source, importance_group=group) for source, group, _ in choices]
+    limited = sources.limit_choice(objects, args)
+    settings = [lod_settings(args, importance_source=source, importance_group=group, limit_group=limit_group)
+                for (source, group, _), (limit_group, _) in zip(choices, limited)]
     # An input's objects are one asset (addon/asset.py), named after the file.
     job = LodJob(bpy.context, objects, settings, CHAIN_LABELS, asset_name=asset_name(label))
     # Objects sharing one input (LodJob: one mesh, equal settings) have the same note.
-    for lod_input, (_, _, note) in zip(job.object_inputs, choices):
-        if note and note not in lod_input.warnings:
-            lod_input.warnings.append(note)
+    for lod_input, (_, _, note), (_, limit_note) in zip(job.object_inputs, choices, limited):
+        for text in (note, limit_note):
+            if text and text not in lod_input.warnings:
+                lod_input.warnings.append(text)
     # Progress per group: a mesh several objects use is simplified once.
     job.run(observer=ProgressLines(console, label, job.inputs, files_left_seconds))
     reports = job.commit(bpy.context)

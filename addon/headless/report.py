@@ -27,7 +27,7 @@ def chain_entry(commit_report: dict, lod_output, importance: str) -> dict:
               "vertices": int(len(data.vertices)), "seconds": 0.0}
     if rep.get("source_mesh") is not None:
         source["mesh"] = rep["source_mesh"]
-    if lod_output.input.settings.measure_deviation:
+    if lod_output.input.settings.measuring():
         source.update(hausdorff_percent=0.0, mean_percent=0.0, normal_mean_degrees=0.0, normal_p95_degrees=0.0,
                       normal_max_degrees=0.0)
     source.update(core.quality_summary(data.vertices, data.faces))
@@ -49,13 +49,14 @@ def settings_summary(args) -> dict:
     # options gave them: the chain as LodSettings computes it, the importance choice as
     # given (it is made per object).
     panel_only = ("ratio", "levels", "level_factor", "target_triangles", "target_by", "max_deviation",
-                  "importance_source", "importance_group")
+                  "importance_source", "importance_group", "limit_group")
     out = {name: getattr(s, name) for name in LodSettings.names() if name not in panel_only}
     kind, chain = s.chain()
     out.update(ratios=chain if kind == "ratios" else None, faces=chain if kind == "triangles" else None,
                **({"max_error": chain} if kind == "deviations" else {}),
                importance_group=args.importance_group, from_armature=args.from_armature or False,
                from_shape_keys=bool(getattr(args, "from_shape_keys", False)),
+               limit_group=getattr(args, "limit_group", None),
                lod_group=bool(args.lod_group))
     return out
 
@@ -129,6 +130,80 @@ def _keys_cell(level: dict) -> str:
     return f"{worst['name']} {worst['hausdorff_percent']:.3f} / {worst['mean_percent']:.4f}"
 
 
+def _breakdown_rows(files: list) -> list:
+    """One row per LOD and material (when the object has several) or painted region."""
+    rows = []
+    for f in files:
+        for obj in f["objects"]:
+            for level in obj["levels"]:
+                materials = level.get("materials") or {}
+                groups = ([("material", materials)] if len(materials) > 1 else []) + \
+                    [("region", level.get("regions") or {})]
+                for kind, entries in groups:
+                    for name, s in entries.items():
+                        rows.append([f["label"], level["name"], f"LOD{level['level']}", kind, name,
+                                     _fmt(s["mean_percent"], ".4f"), _fmt(s["p95_percent"], ".4f"),
+                                     _fmt(s["max_percent"], ".3f"), f"{s['samples']:,}"])
+    return rows
+
+
+def format_breakdown(files: list) -> str:
+    """The distance per material and painted region (addon/level_deviation.py), a table of
+    its own under the main one; "" when no level has any."""
+    return _aligned(["File", "Object", "LOD", "Per", "Name", "Mean %", "P95 %", "Max %", "Samples"],
+                    _breakdown_rows(files), left={0, 1, 2, 3, 4})
+
+
+def limit_lines(files: list) -> list:
+    """One line per LOD with a painted limit (addon/limits.py): how much of it the LOD uses."""
+    lines = []
+    for f in files:
+        for obj in f["objects"]:
+            for level in obj["levels"]:
+                kept = level.get("limit")
+                if kept:
+                    lines.append(f"limit: {f['label']}: {level['name']}: \"{kept['group']}\" within "
+                                 f"{kept['limit_percent']:.3g} %: {100 * kept['limit_used']:.0f} % of it used, "
+                                 f"region max {kept['region_hausdorff_percent']:.3f} %"
+                                 + ("" if kept["within"] else " (BEYOND the limit)"))
+    return lines
+
+
+def posed_lines(files: list) -> list:
+    """One line per skinned LOD: its distance over the rig's own actions (addon/posed_deviation.py)."""
+    lines = []
+    for f in files:
+        for obj in f["objects"]:
+            notes = set()
+            for level in obj["levels"]:
+                posed = level.get("posed")
+                if not posed:
+                    continue
+                if posed.get("frames"):
+                    names = [a["name"] for a in posed["actions"]]
+                    actions = ", ".join(names) if len(names) <= 3 else f"{len(names)} actions"
+                    h, m = posed["hausdorff_percent"], posed["mean_percent"]
+                    lines.append(f"posed: {f['label']}: {level['name']}: {posed['frames']} frames of {actions}: "
+                                 f"Hausdorff mean {h['mean']:.3f} % max {h['max']:.3f} %, "
+                                 f"mean distance mean {m['mean']:.4f} % max {m['max']:.4f} %")
+                if posed.get("note") and posed["note"] not in notes:
+                    notes.add(posed["note"])
+                    lines.append(f"posed: {f['label']}: {obj['object']}: {posed['note']}")
+    return lines
+
+
+def _aligned(header: list, rows: list, left: set) -> str:
+    if not rows:
+        return ""
+    widths = [max(len(str(r[i])) for r in rows + [header]) for i in range(len(header))]
+
+    def line(cells):
+        return "  ".join(str(c).ljust(w) if i in left else str(c).rjust(w)
+                         for i, (c, w) in enumerate(zip(cells, widths))).rstrip()
+
+    return "\n".join([line(header), line(["-" * w for w in widths])] + [line(r) for r in rows])
+
+
 def format_table(files: list) -> str:
     # The worst shape key's column only when some LOD measured its keys.
     keys = any(level.get("shape_keys") for f in files for obj in f["objects"] for level in obj["levels"])
@@ -155,24 +230,20 @@ def format_table(files: list) -> str:
             rows.append([f["label"], "(asset)", f"LOD{level['level']}", f"{level['triangles']:,}", "-",
                          _fmt(level.get("hausdorff_percent"), ".3f"), "-", *(["-"] if keys else []),
                          "-", "-", "-", "-"])
-    if not rows:
-        return ""
-    widths = [max(len(str(r[i])) for r in rows + [header]) for i in range(len(header))]
-    left = {0, 1, 2}
-
-    def line(cells):
-        return "  ".join(str(c).ljust(w) if i in left else str(c).rjust(w)
-                         for i, (c, w) in enumerate(zip(cells, widths))).rstrip()
-
-    out = [line(header), line(["-" * w for w in widths])]
-    out += [line(r) for r in rows]
-    return "\n".join(out)
+    return _aligned(header, rows, left={0, 1, 2})
 
 
 def print_results(report: dict) -> None:
     table = format_table(report["files"])
     if table:
         print(table)
+    breakdown = format_breakdown(report["files"])
+    if breakdown:
+        print("\nDistance to the source per material and painted region (% of the diagonal; "
+              "mean, 95th percentile, max over both surfaces' samples):")
+        print(breakdown)
+    for line in limit_lines(report["files"]) + posed_lines(report["files"]):
+        print(line)
     for f in report["files"]:
         for warning in f["warnings"]:
             print(f"note: {f['label']}: {warning}")

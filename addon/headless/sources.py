@@ -62,6 +62,16 @@ def importance_choice(objects, args) -> list:
     return choices
 
 
+def limit_choice(objects, args) -> list:
+    """Per object: (limit group or "", note or None): --limit-group on the objects that
+    have it; the others are free, with a note."""
+    group = getattr(args, "limit_group", None)
+    if not group:
+        return [("", None)] * len(objects)
+    return [(group, None) if group in ob.vertex_groups else ("", f'no painted limit (no vertex group "{group}")')
+            for ob in objects]
+
+
 def has_shape_keys(ob) -> bool:
     """Whether the mesh object ``ob`` has shape keys besides its basis."""
     keys = ob.data.shape_keys

@@ -1,0 +1,194 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""How far skinned LODs are from their source as the rig's own animation poses them
+(issue 34 §3): the level report's ``posed`` entry.
+
+For each armature that deforms a measured chain: its actions (the active one, then the
+actions of its NLA strips, each once) are played one at a time, at up to
+FRAMES_PER_ACTION frames spread over each action's frame range (MAX_FRAMES in all,
+spread over the actions); at each frame the source and its LODs are evaluated by
+Blender's depsgraph (the Armature modifier as it deforms them, constraints, IK and
+Preserve Volume included: exact by construction) and measured against each other in
+their own (local) coordinates with measure.surface_deviation at posed_samples. Per LOD
+the report gets the mean and the largest, over the frames, of the two-sided Hausdorff
+and mean distance, in percent of the source's bounding-box diagonal at rest.
+
+The scene is left as it was: the frame, the armature's action (and slot), its NLA
+switch, its pose and its transform are put back, whatever happens. An armature with no
+actions gets a note instead of numbers. Main thread only (lod.commit calls it, once the
+LOD objects are linked).
+"""
+from __future__ import annotations
+
+import contextlib
+
+import numpy as np
+
+from . import level_deviation
+from . import measure
+from .deviation_search import report_samples
+
+FRAMES_PER_ACTION = 8
+MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)
+_POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3), ("rotation_axis_angle", 4),
+               ("scale", 3))
+_OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_axis_angle", "scale")
+
+
+def posed_samples(triangles: int) -> int:
+    """Area samples per surface and frame: a quarter of the report's (2,000 to 12,500), as
+    every LOD is measured once per frame; the vertices are queried on top."""
+    return max(2_000, report_samples(triangles) // 4)
+
+
+def actions_of(arm) -> list:
+    """[(action, slot or None)] the armature object plays: its active action, then the
+    actions of its NLA strips, each action once (slots: Blender 4.4+, else None)."""
+    anim = arm.animation_data
+    if anim is None:
+        return []
+    found, seen = [], set()
+
+    def add(action, slot):
+        if action is not None and action.name not in seen:
+            seen.add(action.name)
+            found.append((action, slot))
+
+    add(anim.action, getattr(anim, "action_slot", None))
+    for track in anim.nla_tracks:
+        for strip in track.strips:
+            add(strip.action, getattr(strip, "action_slot", None))
+    return found
+
+
+def _vector_props(collection, props) -> dict:
+    saved = {}
+    for prop, width in props:
+        values = np.empty(len(collection) * width, dtype=np.float32)
+        collection.foreach_get(prop, values)
+        saved[prop] = values
+    return saved
+
+
+@contextlib.contextmanager
+def _animation_kept(scene, arm, depsgraph_of):
+    """Put the scene's frame and ``arm``'s action, slot, NLA switch, pose and transform
+    back afterwards (and evaluate the scene so)."""
+    anim = arm.animation_data
+    frame, subframe = scene.frame_current, scene.frame_subframe
+    action = anim.action
+    slot = getattr(anim, "action_slot", None)
+    use_nla = anim.use_nla
+    pose = _vector_props(arm.pose.bones, _POSE_PROPS) if arm.pose is not None else {}
+    transform = {prop: tuple(getattr(arm, prop)) for prop in _OBJECT_PROPS}
+    try:
+        yield
+    finally:
+        anim.action = action
+        if slot is not None and getattr(anim, "action_slot", None) != slot:
+            anim.action_slot = slot
+        anim.use_nla = use_nla
+        scene.frame_set(frame, subframe=subframe)
+        for prop, values in pose.items():
+            arm.pose.bones.foreach_set(prop, values)
+        for prop, value in transform.items():
+            setattr(arm, prop, value)
+        arm.update_tag()
+        depsgraph_of().update()
+
+
+def _play(arm, action, slot) -> None:
+    """``action`` alone on ``arm``: the active action (in its slot), the NLA off."""
+    anim = arm.animation_data
+    anim.use_nla = False
+    anim.action = action
+    if hasattr(anim, "action_slot"):
+        if slot is not None and anim.action_slot != slot:
+            anim.action_slot = slot
+        elif anim.action_slot is None and len(anim.action_suitable_slots):
+            anim.action_slot = anim.action_suitable_slots[0]
+
+
+def evaluated_triangles(ob, depsgraph) -> tuple:
+    """(vertices (n, 3) float64 in the object's own coordinates, triangles (m, 3)) of
+    ``ob`` as the depsgraph evaluates it now (modifiers, pose)."""
+    from .mesh_io import _get
+
+    evaluated = ob.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        n, m = len(mesh.vertices), len(mesh.loop_triangles)
+        vertices = _get(mesh.vertices, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
+        faces = _get(mesh.loop_triangles, "vertices", m, np.int32, 3).astype(np.int64).reshape(m, 3)
+    finally:
+        evaluated.to_mesh_clear()
+    return vertices, faces
+
+
+def measure_chains(scene, depsgraph_of, chains: list) -> None:
+    """Give each level entry of the skinned ``chains`` its ``posed`` entry.
+
+    chains: [(source object, its LOD objects, their report entries, the source's
+    bounding-box diagonal at rest)]; a chain whose source no armature deforms is left
+    out. ``depsgraph_of()``: the scene's evaluated depsgraph, current."""
+    from .lod import armature_of
+
+    by_armature = {}
+    for chain in chains:
+        arm = armature_of(chain[0])
+        if arm is not None and chain[1]:
+            by_armature.setdefault(arm.name, (arm, []))[1].append(chain)
+    for arm, group in by_armature.values():
+        actions = actions_of(arm)
+        if not actions:
+            for _, _, entries, _ in group:
+                for entry in entries:
+                    entry["posed"] = {"actions": [], "frames": 0,
+                                      "note": f'the armature "{arm.name}" has no actions: nothing to pose it with'}
+            continue
+        if arm.animation_data.use_tweak_mode:
+            for _, _, entries, _ in group:
+                for entry in entries:
+                    entry["posed"] = {"actions": [], "frames": 0,
+                                      "note": f'the armature "{arm.name}" is in NLA tweak mode: not posed'}
+            continue
+        _measure_group(scene, depsgraph_of, arm, actions, group)
+
+
+def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
+    played = actions[:MAX_FRAMES]
+    count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, MAX_FRAMES)
+    per_level = {id(entry): [] for _, _, entries, _ in group for entry in entries}
+    frames_of = []
+    with _animation_kept(scene, arm, depsgraph_of):
+        for action, slot in played:
+            start, end = action.frame_range
+            frames = level_deviation.sample_frames(start, end, count)
+            frames_of.append({"name": action.name, "frames": frames})
+            _play(arm, action, slot)
+            for frame in frames:
+                scene.frame_set(frame)
+                depsgraph = depsgraph_of()
+                depsgraph.update()
+                for source, lods, entries, diagonal in group:
+                    src = evaluated_triangles(source, depsgraph)
+                    scale = 100.0 / diagonal if diagonal > 0 else float("nan")
+                    for lod_ob, entry in zip(lods, entries):
+                        lod = evaluated_triangles(lod_ob, depsgraph)
+                        if len(src[1]) == 0 or len(lod[1]) == 0:
+                            continue
+                        rep = measure.surface_deviation(*src, *lod, n_samples=(posed_samples(len(src[1])),
+                                                                                   posed_samples(len(lod[1]))))
+                        per_level[id(entry)].append((action.name, frame, rep["hausdorff"] * scale,
+                                                     rep["mean"] * scale))
+    skipped = len(actions) - len(played)
+    for _, _, entries, _ in group:
+        for entry in entries:
+            rows = per_level[id(entry)]
+            posed = {"armature": arm.name, "actions": frames_of, "frames": len(rows),
+                     **level_deviation.posed_summary([r[2] for r in rows], [r[3] for r in rows]),
+                     "per_frame": [{"action": a, "frame": f, "hausdorff_percent": h, "mean_percent": m}
+                                   for a, f, h, m in rows]}
+            if skipped:
+                posed["note"] = f"{skipped} more actions not played (at most {MAX_FRAMES} frames an armature)"
+            entry["posed"] = posed
