@@ -80,6 +80,33 @@ def test_samples_carry_their_triangle_and_barycentric_coordinates():
     np.testing.assert_array_equal(points, measure.sample_surface(v, f, 1000, np.random.default_rng(5)))
 
 
+def test_region_deviation_pools_each_direction_over_its_region():
+    # Two source triangles, region = the first. src: 3 samples on 0, 1 on 1; dst: 2 samples
+    # closest to source triangle 0, 2 to 1; the vertices likewise.
+    f = np.array([[0, 1, 2], [1, 3, 2]])
+    z2 = np.zeros((2, 3))
+    sampled = measure.Sampled(
+        src_triangle=np.array([0, 0, 0, 1]), src_bary=np.zeros((4, 3)), src_distance=np.array([1.0, 2.0, 3.0, 50.0]),
+        src_nearest=np.zeros(4, np.int64), src_nearest_bary=np.zeros((4, 3)),
+        src_vertices=np.array([0, 1, 2, 3]), src_vertex_distance=np.array([4.0, 0.5, 0.5, 60.0]),
+        dst_triangle=np.zeros(4, np.int64), dst_bary=np.zeros((4, 3)), dst_distance=np.array([10.0, 20.0, 7.0, 70.0]),
+        dst_vertices=np.array([0, 1]), dst_vertex_distance=np.array([5.0, 80.0]),
+        dst_nearest=np.array([0, 0, 1, 1]), dst_nearest_bary=np.zeros((4, 3)),
+        dst_vertex_nearest=np.array([0, 1]), dst_vertex_nearest_bary=z2)
+    r = measure.region_deviation(sampled, f, np.array([True, False]))
+    assert r["region_mean_src_to_dst"] == pytest.approx(2.0)  # samples 1, 2, 3
+    assert r["region_mean_dst_to_src"] == pytest.approx(15.0)  # samples 10, 20
+    assert r["region_mean"] == pytest.approx(8.5)  # the two directions' means, as the two-sided mean
+    # The largest: src's region vertices 0-2 (4.0; vertex 3 is only on triangle 1) and dst's
+    # points closest to triangle 0 (20.0; vertex 1 at 80 is closest to triangle 1).
+    assert r["region_hausdorff"] == pytest.approx(20.0)
+    assert (r["region_samples_src"], r["region_samples_dst"]) == (3, 2)
+    none = measure.region_deviation(sampled, f, np.zeros(2, bool))
+    assert np.isnan(none["region_mean"]) and np.isnan(none["region_hausdorff"]) and none["region_samples_src"] == 0
+    with pytest.raises(ValueError, match=r"region must be a \(2,\) bool array"):
+        measure.region_deviation(sampled, f, np.ones(3, bool))
+
+
 # ---------------------------------------------------------------- Blender side
 
 
