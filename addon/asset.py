@@ -23,7 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ._core import core
-from . import switch_distances
+from . import importance, key_deviation, switch_distances
 from .settings import LodSettings
 
 
@@ -105,6 +105,32 @@ def mark(asset: Asset, reports: list) -> None:
             ob = bpy.data.objects.get(name)
             if ob is not None:
                 ob[ASSET_PROP] = asset.name
+
+
+def key_importance(inputs: list, matrices: list) -> None:
+    """Source Shape Keys over an asset: every part's importance from one robust maximum of
+    the keys' motion over all parts (importance.motion_reference), in scene units through
+    the largest scale each part is drawn at, rather than each mesh's own. ``inputs``: one
+    lod.LodInput per part (a mesh), ``matrices``: per part, its objects' world matrices
+    (as split_budget). Sets each keyed part's ``importance`` and core options; parts
+    without Source Shape Keys, or without keys, are left alone.
+
+    Why: importance says where the keys move the asset, in proportion to how far. Per
+    mesh, a part the keys barely move (teeth a smile shifts a millimetre) would get as
+    much importance as the face they shape, and the budget split would spend triangles on
+    it; over the asset it gets what its motion is worth."""
+    keyed = [(i, max(matrix_scale(m) for m in placed)) for i, placed in zip(inputs, matrices)
+             if i.settings.importance_source == 'SHAPE_KEYS' and i.data.shape_keys]
+    if len(keyed) < 2:
+        return  # one keyed part: its own reference is the asset's
+    motions = [importance.key_motion(key_deviation.offsets_of(i.data)) for i, _ in keyed]
+    reference = importance.motion_reference(np.concatenate([m * scale for m, (_, scale) in zip(motions, keyed)]))
+    for moved, (i, scale) in zip(motions, keyed):
+        g = np.minimum(moved * scale / reference, 1.0) if reference > 0 else np.zeros(len(moved))
+        settings = i.settings
+        i.core_options = core.Options.of(i.core_options, **importance.controls(
+            g, settings.line_weight, settings.importance_strength, keys=True))
+        i.importance = None if settings.importance_strength <= 0 else g
 
 
 # A part's error curve goes down to this share of the asset's smallest level ratio: a

@@ -38,6 +38,8 @@ painted; the calibration is at 10 % with ~10 % of the vertices painted.
 """
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 
 from ._core import core
@@ -85,11 +87,61 @@ KEY_MOVING = 1e-3
 KEY_REFERENCE_QUANTILE = 0.9
 
 
-def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
+# Source Shape Keys also weighs the keys' own error where the importance is: at g = 1 a
+# key's error counts key_weight(strength) times as much as at rest (1 + 14 x Strength: 8 at
+# the default), W ** g in between (core.Options.key_scale_exponent, on top of the factor
+# every plane gets), as Source Armature counts its sample poses more (pose_weight).
+# Measured at 25 % (bench/shape_keys.py, docs/benchmarks.md), each key's region mean over
+# the same without importance, against the keys counting as the rest: the generated face
+# 0.43x -> 0.32x (rest 1.06x -> 1.08x), RobotExpressive as one asset 0.95x -> 0.76x (rest
+# 0.98x -> 0.95x); the robot's face plate alone, which every key moves all of, 1.03x ->
+# 1.06x. 16 at the default took the robot to 0.60x but the plate alone to 1.16x.
+KEY_WEIGHT_PER_STRENGTH = 14.0
+
+
+def key_weight(strength: float) -> float:
+    """What a shape key's error counts against the rest error at g = 1 under Source Shape
+    Keys at ``strength`` (1 = alike, at strength 0)."""
+    return 1.0 + KEY_WEIGHT_PER_STRENGTH * float(strength)
+
+
+def key_scale_exponent(strength: float) -> float:
+    """core.Options.key_scale_exponent for Source Shape Keys at ``strength``: the keys'
+    planes get factor ** exponent = factor * key_weight at g = 1."""
+    top = factor(strength)
+    return 1.0 if top <= 1.0 else 1.0 + float(np.log(key_weight(strength)) / np.log(top))
+
+
+def key_motion(offsets: np.ndarray) -> np.ndarray:
+    """(n,) how far the keys move each vertex: the largest offset over the keys (K, n, 3)
+    (what each key moves each vertex by at value 1); 0 where not finite."""
+    offsets = np.asarray(offsets, dtype=np.float64)
+    if offsets.ndim != 3 or offsets.shape[2] != 3:
+        raise ValueError(f"shape-key offsets must be a (keys, n, 3) array, got shape {offsets.shape}")
+    if offsets.shape[0] == 0 or offsets.shape[1] == 0:
+        return np.zeros(offsets.shape[1])
+    moved = np.sqrt(np.einsum("knj,knj->kn", offsets, offsets)).max(axis=0)
+    moved[~np.isfinite(moved)] = 0.0
+    return moved
+
+
+def motion_reference(moved: np.ndarray) -> float:
+    """The robust maximum of key motions ``moved`` (any shape, one unit): the
+    KEY_REFERENCE_QUANTILE quantile of those above KEY_MOVING times the largest; 0 when
+    nothing moves. Over an asset's parts, give their motions in scene units."""
+    moved = np.asarray(moved, dtype=np.float64).ravel()
+    top = float(moved.max(initial=0.0))
+    if top <= 0.0:
+        return 0.0
+    return float(np.quantile(moved[moved > KEY_MOVING * top], KEY_REFERENCE_QUANTILE))
+
+
+def shape_key_importance(offsets: np.ndarray, reference: Optional[float] = None) -> np.ndarray:
     """Importance g in [0, 1] per vertex from shape-key offsets (K, n, 3) (what each key
-    moves each vertex by at value 1): the largest offset over the keys, m_i, in proportion
-    to a robust maximum r (the KEY_REFERENCE_QUANTILE quantile of m over the vertices that
-    move), g = min(m / r, 1).
+    moves each vertex by at value 1): the largest offset over the keys, m_i (key_motion),
+    in proportion to a robust maximum r (motion_reference: the KEY_REFERENCE_QUANTILE
+    quantile of m over the vertices that move), g = min(m / r, 1). ``reference``: r given
+    (in the offsets' unit), e.g. an asset's, taken over all of its parts.
 
     The falloff is the keys' own: g follows how far the vertex moves, so where a key fades
     into the still surface its importance fades with it, continuously (a step in g would
@@ -99,19 +151,11 @@ def shape_key_importance(offsets: np.ndarray) -> np.ndarray:
     tail count less): the linear ramp kept the keyed regions as close or closer at the
     same cost at rest (docs/benchmarks.md, shape keys). Vertices that no key moves get 0;
     no key moving anything gives 0 everywhere."""
-    offsets = np.asarray(offsets, dtype=np.float64)
-    if offsets.ndim != 3 or offsets.shape[2] != 3:
-        raise ValueError(f"shape-key offsets must be a (keys, n, 3) array, got shape {offsets.shape}")
-    n = offsets.shape[1]
-    if offsets.shape[0] == 0 or n == 0:
-        return np.zeros(n)
-    moved = np.sqrt(np.einsum("knj,knj->kn", offsets, offsets)).max(axis=0)
-    moved[~np.isfinite(moved)] = 0.0
-    top = float(moved.max())
-    if top <= 0.0:
-        return np.zeros(n)
-    reference = float(np.quantile(moved[moved > KEY_MOVING * top], KEY_REFERENCE_QUANTILE))
-    return np.minimum(moved / reference, 1.0)
+    moved = key_motion(offsets)
+    r = motion_reference(moved) if reference is None else float(reference)
+    if not r > 0.0:
+        return np.zeros(len(moved))
+    return np.minimum(moved / r, 1.0)
 
 
 def skin_importance(skin_weights: np.ndarray) -> np.ndarray:
@@ -148,11 +192,13 @@ def effective(g: np.ndarray, strength: float) -> np.ndarray:
     return g * (np.log(factor(strength)) / np.log(factor(1.0)))
 
 
-def controls(g: np.ndarray, line_weight: float, strength: float) -> dict:
+def controls(g: np.ndarray, line_weight: float, strength: float, keys: bool = False) -> dict:
     """Core options (quadric_scale, line_scale_exponent, maybe line_weights) for importance
-    g in [0, 1]."""
+    g in [0, 1]; ``keys`` (Source Shape Keys): also key_scale_exponent."""
     g = np.clip(np.asarray(g, dtype=np.float64), 0.0, 1.0)
     out = {"quadric_scale": np.power(factor(strength), g), "line_scale_exponent": LINE_SCALE_EXPONENT}
+    if keys:
+        out["key_scale_exponent"] = key_scale_exponent(strength)
     if line_weight < LINE_WEIGHT_FLOOR and np.any(out["quadric_scale"] > 1):
         out["line_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
     return out

@@ -40,6 +40,11 @@ from . import lod
 from .settings import LodError
 
 
+# Source Shape Keys over an asset: one reference for the keys' motion over all parts, in
+# scene units (asset.key_importance), rather than each mesh's own.
+ASSET_KEY_REFERENCE = True
+
+
 class ObjectObserver:
     """What :meth:`LodJob.run` tells about each object, on the thread that runs it.
     The hooks here do nothing; override the ones you need."""
@@ -57,9 +62,10 @@ class ObjectObserver:
         pass
 
 
-def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple, asset=None) -> lod.LodInput:
+def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple, asset=None,
+             keys_optional: bool = False) -> lod.LodInput:
     try:
-        return lod.prepare(context, obj, settings, chain_labels, asset)
+        return lod.prepare(context, obj, settings, chain_labels, asset, keys_optional)
     except LodError as ex:
         # With several objects, a message such as "the first LOD's target ... is not
         # smaller than the mesh" must say which one it is about.
@@ -99,7 +105,8 @@ class LodJob:
             if key is not None:
                 group = next((g for other, g in shared.get(key, ()) if other == s), None)
             if group is None:
-                self.inputs.append(_prepare(context, ob, s, chain_labels, self.asset))
+                self.inputs.append(_prepare(context, ob, s, chain_labels, self.asset,
+                                            keys_optional=len(objects) > 1))
                 self._matrices.append([])
                 group = len(self.groups)
                 self.groups.append([])
@@ -111,6 +118,9 @@ class LodJob:
             self._matrices[group].append(asset_set.world_matrix(ob))
             self.objects.append(ob.name)
             self._group_of.append(group)
+        self._check_shape_keys(objects, per_object)
+        if self.asset is not None and ASSET_KEY_REFERENCE:
+            asset_set.key_importance(self.inputs, self._matrices)
         # The asset's triangle count per level (a chain by triangles), split in run().
         self._asset_targets = None
         if self.asset is not None and per_object[0].deviation_chain() is None:
@@ -126,6 +136,14 @@ class LodJob:
         self.error: Optional[BaseException] = None
         self._cancel = threading.Event()
         self._thread: Optional[threading.Thread] = None
+
+    def _check_shape_keys(self, objects: list, per_object: list) -> None:
+        """Source Shape Keys on several objects: those without keys were made without
+        importance (lod.NO_KEYS_NOTE); LodError when none of them has any."""
+        asked = [(ob.name, g) for ob, s, g in zip(objects, per_object, self._group_of)
+                 if s.importance_source == 'SHAPE_KEYS']
+        if len(objects) > 1 and asked and not any(self.inputs[g].data.shape_keys for _, g in asked):
+            raise LodError(lod.none_has_shape_keys([name for name, _ in asked]))
 
     @property
     def object_inputs(self) -> list:

@@ -9,6 +9,17 @@ level itself is (measure.surface_deviation: two-sided Hausdorff and mean), in sc
 units and in percent of the *rest* source's bounding-box diagonal, the level's own
 denominator, so a key's numbers read against the level's.
 
+Each key is given twice. Over the whole surface, as the level is measured, so a key reads
+against the level's own numbers. And over the key's own region (``region_*``): the source
+triangles with a vertex the key moves by more than REGION_SHARE of its largest motion,
+measured both ways from the same queries: the source's samples in the region to the LOD
+with the key, and the LOD's samples whose closest source point is in the region to the
+source with the key (so a LOD triangle cutting across a closed lid counts, not only the
+lid's own samples). Why both: a face's keys move a few percent of the head, so with a
+blink at 1 the whole-surface mean is the rest pose's mean and cannot say whether the
+blink survived; the region's numbers do. The whole surface still catches what a key does
+to the rest (and a key that moves everything has the whole mesh as its region).
+
 "What the key does at 1" is what Blender shows with that slider at 1 (key_offsets):
 relative keys move each vertex by (key - its relative key) times the key's vertex group
 weight; a key relative to another key (a chain) is measured on its own, not on top of
@@ -37,6 +48,9 @@ from .deviation_search import report_samples
 
 KEYS_AT_FULL_SAMPLES = 4
 KEY_SAMPLES_MIN = 2_000
+# A key's region: the source triangles with a vertex the key moves by more than this share
+# of its largest motion on the mesh (below it, a key's far tail or noise).
+REGION_SHARE = 0.05
 
 
 def key_offsets(shape_keys: Sequence, use_relative: bool = True, group_names: Sequence = (),
@@ -78,11 +92,33 @@ def key_samples(triangles: int, keys: int) -> int:
     return max(KEY_SAMPLES_MIN, report_samples(triangles) // share)
 
 
+def key_region(offsets: np.ndarray, faces: np.ndarray, share: float = REGION_SHARE) -> np.ndarray:
+    """(m,) bool: the triangles of ``faces`` with a vertex that ``offsets`` (n, 3), one
+    key's, move by more than ``share`` of their largest motion; none for a key that moves nothing."""
+    moved = np.linalg.norm(np.asarray(offsets, dtype=np.float64), axis=1)
+    top = float(moved.max(initial=0.0))
+    if not top > 0.0:
+        return np.zeros(len(faces), dtype=bool)
+    return (moved > share * top)[np.asarray(faces)].any(axis=1)
+
+
+def _area_share(vertices: np.ndarray, faces: np.ndarray, region: np.ndarray) -> float:
+    """The share of the surface's area the triangles ``region`` cover, in percent."""
+    p = vertices[faces]
+    area = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    total = float(area.sum())
+    return 100.0 * float(area[region].sum()) / total if total > 0 else 0.0
+
+
 def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
-    """[{name, hausdorff, mean, hausdorff_percent, mean_percent}] per shape key of the
-    source ``data``: ``level`` (a LOD of it, carrying the same keys) against ``data``,
-    both with that key at 1. Percent of ``diagonal`` (by default the rest source's
-    bounding-box diagonal). [] when the source has no shape keys."""
+    """[{name, hausdorff, mean, hausdorff_percent, mean_percent, and for a key that moves
+    the mesh: region_mean, region_hausdorff, region_mean_percent, region_hausdorff_percent,
+    region_area_percent}] per shape key of the source ``data``: ``level`` (a LOD of it,
+    carrying the same keys) against ``data``, both with that key at 1, over the whole
+    surface and over the key's own region (key_region, measured both ways:
+    measure.region_deviation; region_area_percent: the share of the source's
+    area with the key at 1 that the region covers). Percent of ``diagonal`` (by default
+    the rest source's bounding-box diagonal). [] when the source has no shape keys."""
     if not data.shape_keys:
         return []
     if diagonal is None:
@@ -100,10 +136,18 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
                                                   n_samples=samples)
             d = still
         else:
+            region = key_region(source[k], data.faces)
             d = measure.surface_deviation(data.vertices + source[k], data.faces, level.vertices + lod[k],
-                                          level.faces, n_samples=samples)
-        out.append({"name": sk.name, "hausdorff": float(d["hausdorff"]), "mean": float(d["mean"]),
-                    "hausdorff_percent": float(d["hausdorff"] * scale), "mean_percent": float(d["mean"] * scale)})
+                                          level.faces, n_samples=samples, keep_samples=True)
+            d.update(measure.region_deviation(d.pop("sampled"), data.faces, region))
+        entry = {"name": sk.name, "hausdorff": float(d["hausdorff"]), "mean": float(d["mean"]),
+                 "hausdorff_percent": float(d["hausdorff"] * scale), "mean_percent": float(d["mean"] * scale)}
+        if "region_mean" in d and np.isfinite(d["region_mean"]):
+            entry.update({"region_mean": float(d["region_mean"]), "region_hausdorff": float(d["region_hausdorff"]),
+                          "region_mean_percent": float(d["region_mean"] * scale),
+                          "region_hausdorff_percent": float(d["region_hausdorff"] * scale),
+                          "region_area_percent": _area_share(data.vertices + source[k], data.faces, region)})
+        out.append(entry)
     return out
 
 

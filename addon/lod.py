@@ -201,6 +201,18 @@ def no_shape_keys(obj) -> str:
             f'or choose another importance source')
 
 
+def none_has_shape_keys(names: list) -> str:
+    """The message for Source Shape Keys on several objects none of which has any."""
+    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
+    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
+            f"(Object Data Properties > Shape Keys) or choose another importance source")
+
+
+# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
+# importance, this note (the command line's words for the same case, headless/sources.py).
+NO_KEYS_NOTE = "no importance (no shape keys)"
+
+
 def shape_key_importance_of(obj) -> np.ndarray:
     """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
     from its shape keys (importance.shape_key_importance); LodError when it has none."""
@@ -291,7 +303,8 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
     if len(feature_edges):
         options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
     if g is not None:
-        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength))
+        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength,
+                                                          keys=settings.importance_source == 'SHAPE_KEYS'))
     if poses is not None:
         options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
                                   pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
@@ -336,12 +349,15 @@ def shared_mesh_key(source, settings: LodSettings):
 
 
 def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = (),
-            asset: Optional[asset_set.Asset] = None) -> LodInput:
+            asset: Optional[asset_set.Asset] = None, keys_optional: bool = False) -> LodInput:
     """Check the input and read everything the run needs from Blender (main thread).
     ``chain_labels``: how a message about the explicit chain names its ratios and triangle
     counts (LodSettings.targets; the command line: "--ratios", "--faces"). ``asset``: the
     asset ``source`` is a part of (addon/asset.py): a chain by triangles gets its targets
-    from the asset's budget later (LodJob), deviations are relative to the asset."""
+    from the asset's budget later (LodJob), deviations are relative to the asset.
+    ``keys_optional``: ``source`` is one of several objects (LodJob): with Source Shape
+    Keys, a mesh without shape keys is made without importance and gets NO_KEYS_NOTE
+    rather than an error (LodJob raises one when none of the objects has keys)."""
     check_source(source)
     settings.validate()
     _, depsgraph = _scene_and_depsgraph(context_or_scene)
@@ -366,7 +382,12 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         targets = settings.targets(len(data.faces), *chain_labels)
         if settings.deviation_chain() is not None:
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
-    g = _importance(source, settings, data.group_names, data.group_weights, lambda: key_deviation.offsets_of(data))
+    if keys_optional and settings.importance_source == 'SHAPE_KEYS' and not data.shape_keys:
+        g = None
+        warnings.append(NO_KEYS_NOTE)
+    else:
+        g = _importance(source, settings, data.group_names, data.group_weights,
+                        lambda: key_deviation.offsets_of(data))
     if g is not None and settings.importance_source == 'SHAPE_KEYS' and not np.any(g > 0):
         warnings.append("no shape key moves any vertex: Source Shape Keys has nothing to keep")
     poses = check_poses = None
@@ -430,11 +451,17 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
 
 
-def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dict]:
+def region_word(source: str) -> str:
+    """What the report and the panel call the region of g >= 0.5 for an importance source:
+    "keyed" for Source Shape Keys (nobody painted it), else "painted"."""
+    return "keyed" if source == 'SHAPE_KEYS' else "painted"
+
+
+def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "painted") -> Optional[dict]:
     """How dense the painted region (g >= 0.5) came out against the rest: the share of
     each kept and their ratio, the density in/out relative to the input's (on a uniform
-    mesh simply the painted region's vertex density over the rest's). None when nothing
-    or everything is painted."""
+    mesh simply the painted region's vertex density over the rest's). ``region``: what
+    the panel calls that region (region_word). None when nothing or everything is painted."""
     painted = np.asarray(g) >= PAINTED
     n_in = int(np.count_nonzero(painted))
     n_out = len(painted) - n_in
@@ -445,7 +472,7 @@ def importance_density(g: np.ndarray, vertex_origin: np.ndarray) -> Optional[dic
     share_in, share_out = kept_in / n_in, kept_out / n_out
     return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
             "rest_kept_percent": 100.0 * share_out,
-            "painted_density": share_in / share_out if share_out > 0 else float("inf")}
+            "painted_density": share_in / share_out if share_out > 0 else float("inf"), "region": region}
 
 
 # ----------------------------------------------------------------------------- compute
@@ -624,7 +651,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             # Each key's shape too: the LOD with the key at 1 against the source with it.
             entry["shape_keys"] = key_deviation.level_key_deviations(data, levels[-1])
         if lod_input.importance is not None:
-            density = importance_density(lod_input.importance, result.vertex_origin)
+            density = importance_density(lod_input.importance, result.vertex_origin,
+                                         region_word(lod_input.settings.importance_source))
             if density is not None:
                 entry["importance"] = density
         if stats.stop_reason != core.STOP_TARGET and requested[k - 1] is None:
@@ -943,10 +971,12 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                hausdorff_percent, mean_percent, normal_mean_degrees, normal_p95_degrees,
                normal_max_degrees (if measured), mean_quality, min_quality, sliver_percent,
                importance (with importance on: painted_vertices, painted_kept,
-               painted_kept_percent, rest_kept_percent, painted_density),
+               painted_kept_percent, rest_kept_percent, painted_density, region: "painted",
+               or "keyed" for Source Shape Keys),
                shape_keys (measured, with shape keys: per key {name, hausdorff, mean,
-               hausdorff_percent, mean_percent}, the LOD and the source each with that
-               key at 1; key_deviation.py),
+               hausdorff_percent, mean_percent, and for a key that moves the mesh
+               region_mean, region_hausdorff, their _percent, region_area_percent}, the
+               LOD and the source each with that key at 1; key_deviation.py),
                measured: materials, regions ({name: {mean_percent, p95_percent,
                max_percent, samples}}), deviation_colors (with Deviation Colors), posed
                (skinned: over the armature's actions; addon/level_deviation.py,

@@ -370,6 +370,50 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     return report
 
 
+def region_deviation(sampled: Sampled, src_faces, region) -> dict:
+    """The distances over a region of src's triangles (e.g. what a shape key moves), both
+    ways, from the points surface_deviation(keep_samples=True) measured (``sampled``):
+    src's samples on those triangles and the vertices they use, to dst; dst's samples and
+    vertices whose closest point of src is on them, to src (a LOD triangle across the
+    region counts, whichever of it the region's own samples miss).
+
+    ``src_faces``: src's (m, 3) triangles; ``region``: (m,) bool. Returns, in mesh units:
+    region_hausdorff (the largest over both directions' points in the region),
+    region_mean (the mean of each direction's mean over its area samples there, as the
+    two-sided mean; over its vertices when no sample fell there), region_mean_src_to_dst,
+    region_mean_dst_to_src, region_samples_src, region_samples_dst (area samples in the
+    region per direction); NaN where no point is in the region."""
+    f = np.asarray(src_faces, dtype=np.int64)
+    mask = np.asarray(region, dtype=bool)
+    if mask.shape != (len(f),):
+        raise ValueError(f"region must be a ({len(f)},) bool array, one per src triangle, got shape {mask.shape}")
+    if sampled.dst_nearest is None or sampled.dst_vertex_nearest is None:
+        raise ValueError("a region needs where dst's points are closest to src: measure with keep_samples=True")
+    in_vertex = np.zeros(int(f.max(initial=-1)) + 1, dtype=bool)
+    in_vertex[f[mask]] = True  # a vertex is in the region when a triangle of the region uses it
+    src = _region_stats(sampled.src_distance, mask[sampled.src_triangle], sampled.src_vertex_distance,
+                        in_vertex[sampled.src_vertices])
+    dst = _region_stats(sampled.dst_distance, mask[sampled.dst_nearest], sampled.dst_vertex_distance,
+                        mask[sampled.dst_vertex_nearest])
+    largest, means = np.array([src[0], dst[0]]), np.array([src[1], dst[1]])
+    return {"region_hausdorff": float(np.nanmax(largest)) if np.isfinite(largest).any() else float("nan"),
+            "region_mean": float(np.nanmean(means)) if np.isfinite(means).any() else float("nan"),
+            "region_mean_src_to_dst": src[1], "region_mean_dst_to_src": dst[1],
+            "region_samples_src": src[2], "region_samples_dst": dst[2]}
+
+
+def _region_stats(d_samples, in_samples, d_verts, in_verts) -> tuple:
+    """(largest distance, mean distance, area samples) over the points in a region: the
+    largest over its samples and vertices, the mean over its area samples (over its
+    vertices when no sample fell in it); NaN when no point did."""
+    picked, picked_verts = np.asarray(d_samples)[in_samples], np.asarray(d_verts)[in_verts]
+    if not len(picked) and not len(picked_verts):
+        return float("nan"), float("nan"), 0
+    largest = float(max(picked.max(initial=0.0), picked_verts.max(initial=0.0)))
+    mean = float(picked.mean()) if len(picked) else float(picked_verts.mean())
+    return largest, mean, int(len(picked))
+
+
 def normal_deviation(src_vertices, src_faces, src_normals, dst_vertices, dst_faces, dst_normals, *,
                      samples_per_unit_area=None, n_samples=None, seed=0) -> dict:
     """How far dst's shading normals are from src's: the angle, in degrees, between src's

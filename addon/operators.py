@@ -53,9 +53,10 @@ def _summary(reports) -> str:
         counts = " / ".join(f"{lv['triangles']:,}" for lv in rep["levels"])
         made = f"sharing {rep['shares']}'s LOD meshes" if rep.get("shares") else f"in {rep['seconds']:.1f} s"
         text = f"{rep['object']}: {len(rep['levels'])} LODs ({counts} triangles) {made}"
-        density = [lv["importance"]["painted_density"] for lv in rep["levels"] if "importance" in lv]
-        if density:
-            text += ", painted region " + " / ".join(f"{d:.1f}x" for d in density) + " as dense as the rest"
+        importance = [lv["importance"] for lv in rep["levels"] if "importance" in lv]
+        if importance:
+            text += (f", {importance[0].get('region', 'painted')} region "
+                     + " / ".join(f"{imp['painted_density']:.1f}x" for imp in importance) + " as dense as the rest")
         parts.append(text)
     return "; ".join(parts)
 

@@ -199,12 +199,18 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                 if level.get("shape_keys"):
                     worst = max(level["shape_keys"], key=lambda entry: entry["hausdorff_percent"])
                     mean = sum(entry["mean_percent"] for entry in level["shape_keys"]) / len(level["shape_keys"])
-                    box.label(text=f"LOD{level['level']} keys at 1: mean {mean:.4f} %, worst "
+                    # The mean over each key's own region (key_deviation.py), where a blink shows.
+                    regions = [entry["region_mean_percent"] for entry in level["shape_keys"]
+                               if "region_mean_percent" in entry]
+                    where = f" (in their regions {sum(regions) / len(regions):.4f} %)" if regions else ""
+                    box.label(text=f"LOD{level['level']} keys at 1: mean {mean:.4f} %{where}, worst "
                                    f"\"{worst['name']}\" {worst['hausdorff_percent']:.3f} % max")
             for level in rep["levels"]:
                 if "importance" in level:
                     imp = level["importance"]
-                    box.label(text=f"LOD{level['level']}: painted region kept {imp['painted_kept_percent']:.0f} %, "
+                    # "keyed region" for Source Shape Keys: nobody painted it.
+                    box.label(text=f"LOD{level['level']}: {imp.get('region', 'painted')} region kept "
+                                   f"{imp['painted_kept_percent']:.0f} %, "
                                    f"the rest {imp['rest_kept_percent']:.0f} % "
                                    f"({imp['painted_density']:.1f}x as dense)")
             for level in rep["levels"]:

@@ -2,20 +2,31 @@
 without importance, and what it costs at rest. Distances, not time.
 
     .venv/bin/python bench/shape_keys.py [--ratio 0.25] [--strength 0.5 ...] [--samples 100000]
+                                         [--only face eyes head4 robot] [--keys-as-rest]
 
-Two inputs, each simplified through the add-on (lod.prepare + lod.compute, the panel's
-defaults but the source and the chain):
-  * the face parts of ../shared/assets/RobotExpressive.glb that carry its morph targets
-    (Angry, Surprised, Sad), imported with Blender's glTF importer, each part its own chain;
+Inputs, each simplified through the add-on (lod.prepare + lod.compute, or LodJob for an
+asset, the panel's defaults but the source and the chain):
   * a generated face built here: an icosphere "head" (20,480 triangles) with a nose, eye
     sockets, a brow and a mouth groove, and two keys, Blink (the lids close: the sockets
     fill and a narrow lid ridge forms across each eye) and Smile (the mouth corners pulled
-    up and back, the cheeks raised, the nasolabial folds deepened).
+    up and back, the cheeks raised, the nasolabial folds deepened);
+  * the same face with two eyeballs (5,120 triangles each) that Blink shifts by 1 % of its
+    largest motion, as one asset: once with each mesh's own reference for the keys'
+    motion (job.ASSET_KEY_REFERENCE off), once with the asset's;
+  * RobotExpressive's face plate Head_4 (../shared/assets/RobotExpressive.glb, imported
+    with Blender's glTF importer), the one part its morph targets (Angry, Surprised, Sad)
+    move: every key moves all of it;
+  * the whole robot as the command line takes an input: every mesh object as one asset,
+    --from-shape-keys (Source Shape Keys on the objects with keys, none on the others).
 For each run, each key: the LOD with the key at 1 against the source with the key at 1
 (key_deviation.key_offsets, as the report does), two-sided mean and Hausdorff in % of the
 rest source's bounding-box diagonal, ``--samples`` area samples per surface (vertices on
-top); and the rest pose likewise. Ratios are Shape Keys over none (below 1 = closer).
-Prints markdown tables and the processor; docs/benchmarks.md quotes them.
+top), over the whole surface and over the key's region both ways, as the report measures
+it (key_deviation.key_region, measure.region_deviation); the rest pose
+likewise, its region every key's together. An asset is measured as one mesh in world
+space. Ratios are Shape Keys over none (below 1 = closer). ``--keys-as-rest``: the keys'
+own error counts as the rest's (importance.KEY_WEIGHT_PER_STRENGTH 0), as before the
+keys' weight. Prints markdown tables and the processor; docs/benchmarks.md quotes them.
 """
 from __future__ import annotations
 
@@ -105,71 +116,99 @@ def face_object(subdivisions: int = 6):
 # ----------------------------------------------------------------------------- the runs
 
 
-def robot_parts() -> list:
+def eyes(face, share: float = 0.01) -> list:
+    """Two eyeballs inside the generated face's sockets (5,120 triangles each) that its key
+    Blink shifts by ``share`` of the blink's largest motion: a part the keys barely move,
+    as a glTF primitive gets every morph target of its mesh with near-zero deltas."""
+    offsets = key_deviation.offsets_of(lod.prepare(bpy.context, face, lod.LodSettings()).data)
+    names = [kb.name for kb in face.data.shape_keys.key_blocks[1:]]
+    blink = np.linalg.norm(offsets[names.index("Blink")], axis=1).max()
+    out = []
+    for i, e in enumerate(EYES):
+        bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=0.12,
+                                              location=tuple(np.asarray(e) * 0.7 * SCALE))
+        ob = bpy.context.active_object
+        ob.name = ob.data.name = f"Eye{i}"
+        n = len(ob.data.vertices)
+        co = np.empty(3 * n, np.float32)
+        ob.data.vertices.foreach_get("co", co)
+        ob.shape_key_add(name="Basis", from_mix=False)
+        moved = co.reshape(n, 3) + np.array([0.0, 0.0, -share * blink], np.float32)
+        ob.shape_key_add(name="Blink", from_mix=False).data.foreach_set("co", moved.ravel())
+        ob.shape_key_add(name="Smile", from_mix=False)
+        out.append(ob)
+    return out
+
+
+def robot_objects() -> list:
+    """RobotExpressive's objects as the command line takes an input's: every mesh object
+    that is not a rig widget (headless/sources.select_objects)."""
+    from addon.headless import sources
+
     scene_files.reset_scene()
     with scene_files.blender_output(False):
         bpy.ops.import_scene.gltf(filepath=str(ROBOT))
-    return [ob for ob in bpy.context.scene.objects
-            if ob.type == 'MESH' and ob.data.shape_keys is not None and len(ob.data.shape_keys.key_blocks) > 1]
+    objects, _ = sources.select_objects(bpy.context.scene, None)
+    return objects
+
+
+def keyed(objects: list) -> list:
+    return [ob for ob in objects if ob.data.shape_keys is not None and len(ob.data.shape_keys.key_blocks) > 1]
+
+
+def settings_for(ob, ratio: float, source: str, strength: float) -> lod.LodSettings:
+    """The panel's defaults but the chain and the source; as the command line's
+    --from-shape-keys, Source Shape Keys only on an object with keys (sources.importance_choice)."""
+    has_keys = ob.data.shape_keys is not None and len(ob.data.shape_keys.key_blocks) > 1
+    return lod.LodSettings(ratios=(ratio,), importance_source=source if has_keys else 'NONE',
+                           importance_strength=strength, measure_deviation=False)
 
 
 def simplify(ob, ratio: float, source: str, strength: float):
-    settings = lod.LodSettings(ratios=(ratio,), importance_source=source, importance_strength=strength,
-                               measure_deviation=False)
-    out = lod.compute(lod.prepare(bpy.context, ob, settings))
+    out = lod.compute(lod.prepare(bpy.context, ob, settings_for(ob, ratio, source, strength)))
     return out.input.data, out.levels[0]
 
 
-REGION = 0.05  # a key's region: the triangles with a vertex it moves by 5 % of its largest offset or more
-
-
-def _region_mean(v_a, f_a, moved_a, v_b, f_b, samples: int) -> float:
-    """Mean distance from area samples of surface a's triangles in ``moved_a`` (a mask) to surface b."""
-    points, _, _ = measure._sample_surface(v_a, f_a[moved_a], samples, np.random.default_rng(SEED))
-    return float(measure._distances(measure._build_tree(v_b, f_b), points).mean())
-
-
-def distances(data, level, samples: int, g_source=None) -> dict:
-    """{"rest" or key name: (mean %, Hausdorff %, keyed-region mean %)} of ``level`` against
-    ``data``. The keyed-region mean: both directions' mean distance from the samples on the
-    triangles the key moves (for rest: those any key moves) only."""
+def distances(data, level, samples: int) -> dict:
+    """{"rest" or key name: (mean %, Hausdorff %, region mean %, region Hausdorff %)} of
+    ``level`` against ``data``, each with the key at 1, as the report measures them
+    (key_deviation.py: the key's region both ways, measure.region_deviation); for rest,
+    the region is every key's together."""
     diagonal = measure.bbox_diagonal(data.vertices, data.faces)
     src, dst = key_deviation.offsets_of(data), key_deviation.offsets_of(level)
-    shapes = [("rest", np.zeros_like(data.vertices), np.zeros_like(level.vertices), src, dst)]
-    shapes += [(sk.name, src[k], dst[k], src[k:k + 1], dst[k:k + 1]) for k, sk in enumerate(data.shape_keys)]
+    regions = [key_deviation.key_region(src[k], data.faces) for k in range(len(src))]
+    union = np.any(regions, axis=0) if regions else np.zeros(len(data.faces), dtype=bool)
+    shapes = [("rest", np.zeros_like(data.vertices), np.zeros_like(level.vertices), union)]
+    shapes += [(sk.name, src[k], dst[k], regions[k]) for k, sk in enumerate(data.shape_keys)]
     out = {}
-    for name, a, b, ka, kb in shapes:
-        va, vb = data.vertices + a, level.vertices + b
-        d = measure.surface_deviation(va, data.faces, vb, level.faces, n_samples=samples, seed=SEED)
-        ma, mb = np.linalg.norm(ka, axis=2).max(0), np.linalg.norm(kb, axis=2).max(0)
-        top = max(ma.max(), 1e-30)
-        in_a, in_b = (ma >= REGION * top)[data.faces].any(1), (mb >= REGION * top)[level.faces].any(1)
-        region = float("nan")
-        if in_a.any() and in_b.any():
-            region = 0.5 * (_region_mean(va, data.faces, in_a, vb, level.faces, samples)
-                            + _region_mean(vb, level.faces, in_b, va, data.faces, samples))
-        out[name] = (100.0 * d["mean"] / diagonal, 100.0 * d["hausdorff"] / diagonal, 100.0 * region / diagonal)
+    for name, a, b, region in shapes:
+        d = measure.surface_deviation(data.vertices + a, data.faces, level.vertices + b, level.faces,
+                                      n_samples=samples, seed=SEED, keep_samples=True)
+        d.update(measure.region_deviation(d.pop("sampled"), data.faces, region))
+        out[name] = tuple(100.0 * d[key] / diagonal for key in ("mean", "hausdorff", "region_mean",
+                                                                 "region_hausdorff"))
     return out
 
 
 def simplify_asset(objects, ratio: float, source: str, strength: float) -> tuple:
-    """``objects`` as one asset (LodJob: the budget split over them by error), each with
-    ``source``: (source, LOD) as one mesh in world space, each carrying the keys by name."""
-    settings = lod.LodSettings(ratios=(ratio,), importance_source=source, importance_strength=strength,
-                               measure_deviation=False)
-    job = job_mod.LodJob(bpy.context, objects, settings)
+    """``objects`` as one asset (LodJob, as the command line runs an input: the budget split
+    over them by error, Source Shape Keys on those with keys): (source, LOD) as one mesh
+    in world space, each carrying the keys by name."""
+    job = job_mod.LodJob(bpy.context, objects, [settings_for(ob, ratio, source, strength) for ob in objects])
     job.run()
     return (_world([out.input.data for out in job.object_outputs], objects),
-            _world([out.levels[0] for out in job.object_outputs], objects))
+            _world([out.levels[0] if out.levels else None for out in job.object_outputs], objects))
 
 
 def _world(parts: list, objects: list):
-    """The MeshData ``parts`` of ``objects`` as one MeshData in world space (keys by name)."""
+    """The MeshData ``parts`` of ``objects`` (None: a part the asset's split removed) as
+    one MeshData in world space (keys by name)."""
     from addon import mesh_io
 
-    names = list(dict.fromkeys(sk.name for data in parts for sk in data.shape_keys))
+    pairs = [(data, ob) for data, ob in zip(parts, objects) if data is not None]
+    names = list(dict.fromkeys(sk.name for data, _ in pairs for sk in data.shape_keys))
     verts, faces, keys, start = [], [], [[] for _ in names], 0
-    for data, ob in zip(parts, objects):
+    for data, ob in pairs:
         mat = np.array(ob.matrix_world)
         verts.append(data.vertices @ mat[:3, :3].T + mat[:3, 3])
         faces.append(data.faces + start)
@@ -184,37 +223,49 @@ def _world(parts: list, objects: list):
 
 
 def keyed_share(data) -> float:
-    """Share of the source's vertices that Source Shape Keys gives importance >= 0.5."""
+    """Share of the source's vertices that Source Shape Keys gives importance >= 0.5 (one
+    reference over the whole mesh: for an asset, the asset's)."""
     from addon import importance
 
     return float(np.mean(importance.shape_key_importance(key_deviation.offsets_of(data)) >= 0.5))
 
 
-SUMMARY = []  # (mesh, strength, keys' ratios (mean, Hausdorff, region), rest's): the closing table
+SUMMARY = []  # (mesh, strength, keys' ratios (mean, Hausdorff, region mean, region Hausdorff), rest's)
+COLUMNS = ("mean", "Hausdorff", "region mean", "region Hausdorff")
 
 
-def bench(label: str, ob, ratio: float, strengths: list, samples: int) -> list:
+def bench(label: str, ob, ratio: float, strengths: list, samples: int, baseline: dict = None) -> list:
     """``ob`` (a mesh object, or a list of them: one asset) without importance and with
-    Source Shape Keys at each strength: the table's rows (and a SUMMARY entry per strength)."""
+    Source Shape Keys at each strength: the table's rows (and a SUMMARY entry per strength).
+    ``baseline``: {"data", "plain", "base"} of an earlier run without importance, reused."""
     run = (lambda source, s: simplify_asset(ob, ratio, source, s)) if isinstance(ob, list) else \
         (lambda source, s: simplify(ob, ratio, source, s))
-    data, plain = run('NONE', 0.5)
-    base = distances(data, plain, samples)
+    if baseline is None or not baseline:
+        data, plain = run('NONE', 0.5)
+        fresh = {"data": data, "plain": plain, "base": distances(data, plain, samples)}
+        if baseline is not None:
+            baseline.update(fresh)
+        baseline = fresh
+    data, plain, base = baseline["data"], baseline["plain"], baseline["base"]
     rows = []
     for strength in strengths:
-        _, keyed = run('SHAPE_KEYS', strength)
-        ours = distances(data, keyed, samples)
+        _, ours_lod = run('SHAPE_KEYS', strength)
+        ours = distances(data, ours_lod, samples)
         keys = [name for name in base if name != "rest"]
         for name in base:
-            (m0, h0, r0), (m1, h1, r1) = base[name], ours[name]
-            rows.append(row(label, f"{len(data.faces):,} → {len(keyed.faces):,}", f"{keyed_share(data):.0%}",
-                            f"{strength:g}", name, f"{m0:.4f}", f"{m1:.4f}", _ratio(m1, m0),
-                            f"{r0:.4f}", f"{r1:.4f}", _ratio(r1, r0), f"{h0:.3f}", f"{h1:.3f}", _ratio(h1, h0)))
+            cells = []
+            for i in range(4):
+                cells += [f"{base[name][i]:.4f}", f"{ours[name][i]:.4f}", _ratio(ours[name][i], base[name][i])]
+            rows.append(row(label, f"{len(data.faces):,} → {len(plain.faces):,} / {len(ours_lod.faces):,}",
+                            f"{keyed_share(data):.0%}", f"{strength:g}", name, *cells))
         if keys:
-            means = [_geomean([ours[n][i] / base[n][i] for n in keys if base[n][i] > 0]) for i in range(3)]
-            rows.append(row(label, "", "", f"{strength:g}", "**keys, geometric mean**", "", "",
-                            f"**{means[0]:.2f}x**", "", "", f"**{means[2]:.2f}x**", "", "", f"**{means[1]:.2f}x**"))
-            SUMMARY.append((label, strength, means, [ours["rest"][i] / base["rest"][i] for i in range(3)]))
+            means = [_geomean([ours[n][i] / base[n][i] for n in keys if base[n][i] > 0]) for i in range(4)]
+            rest = [ours["rest"][i] / base["rest"][i] if base["rest"][i] > 0 else float("nan") for i in range(4)]
+            cells = []
+            for i in range(4):
+                cells += ["", "", f"**{means[i]:.2f}x**"]
+            rows.append(row(label, "", "", f"{strength:g}", "**keys, geometric mean**", *cells))
+            SUMMARY.append((label, strength, means, rest))
     return rows
 
 
@@ -234,36 +285,56 @@ def main() -> None:
                         help="Strengths of Source Shape Keys to compare with no importance (default 0.5)")
     parser.add_argument("--samples", type=int, default=100_000, help="area samples per surface and shape")
     parser.add_argument("--no-robot", action="store_true", help="the generated face only")
+    parser.add_argument("--only", nargs="+", choices=("face", "eyes", "head4", "robot"),
+                        default=("face", "eyes", "head4", "robot"), help="which inputs (default all)")
+    parser.add_argument("--keys-as-rest", action="store_true",
+                        help="the keys' own error counts as the rest's (no key weight)")
     args = parser.parse_args()
+    if args.keys_as_rest:
+        from addon import importance
+
+        importance.KEY_WEIGHT_PER_STRENGTH = 0.0
     print(f"Processor: {processor()}; bpy {bpy.app.version_string}; ratio {args.ratio:g}; two-sided mean and "
-          f"Hausdorff in % of the rest source's diagonal, {args.samples:,} area samples per surface\n")
-    print(header("mesh", "triangles", "keyed (g >= 0.5)", "strength", "shape", "mean: none", "Shape Keys",
-                 "ratio", "keyed region mean: none", "Shape Keys", "ratio", "Hausdorff: none", "Shape Keys", "ratio"))
-    scene_files.reset_scene()
-    for line in bench("generated face", face_object(), args.ratio, args.strength, args.samples):
-        print(line, flush=True)
-    if not args.no_robot:
+          f"Hausdorff in % of the rest source's diagonal, {args.samples:,} area samples per surface"
+          f"{'; keys counted as the rest' if args.keys_as_rest else ''}\n")
+    print(header("mesh", "triangles: source → none / Shape Keys", "keyed (g >= 0.5)", "strength", "shape",
+                 *[f"{c}{suffix}" for c in COLUMNS for suffix in (": none", ": Shape Keys", ": ratio")]))
+    if {"face", "eyes"} & set(args.only):
+        scene_files.reset_scene()
+        face = face_object()
+        if "face" in args.only:
+            for line in bench("generated face", face, args.ratio, args.strength, args.samples):
+                print(line, flush=True)
+        if "eyes" in args.only:
+            # A part the keys barely move: each mesh its own reference against the asset's.
+            parts = [face] + eyes(face)
+            base = {}
+            for shared in (False, True):
+                job_mod.ASSET_KEY_REFERENCE = shared
+                label = (f"generated face + eyes the blink moves 1 %, one asset, "
+                         f"{'asset' if shared else 'mesh'}'s reference")
+                for line in bench(label, parts, args.ratio, args.strength, args.samples, base):
+                    print(line, flush=True)
+            job_mod.ASSET_KEY_REFERENCE = True
+    if not args.no_robot and {"head4", "robot"} & set(args.only):
         if not ROBOT.is_file():
             print(f"(skipped {ROBOT}: not found)")
-            return
-        parts = robot_parts()
-        for ob in parts:
-            if not np.any(key_deviation.offsets_of(lod.prepare(bpy.context, ob, lod.LodSettings()).data)):
-                print(row(f"RobotExpressive {ob.name}", f"{len(ob.data.loop_triangles):,}", "0%", "", "its keys "
-                          "move nothing: the same LOD either way", *[""] * 9), flush=True)
-                continue
-            for line in bench(f"RobotExpressive {ob.name}", ob, args.ratio, args.strength, args.samples):
-                print(line, flush=True)
-        names = " + ".join(ob.name for ob in parts)
-        for line in bench(f"RobotExpressive head ({names}, one asset)", parts, args.ratio, args.strength,
-                          args.samples):
-            print(line, flush=True)
-    print("\nSummary: Shape Keys over no importance (geometric mean over the keys; below 1 = closer)\n")
-    print(header("mesh", "strength", "keys: mean", "keyed region mean", "Hausdorff", "rest: mean",
-                 "keyed region mean", "Hausdorff"))
+        else:
+            objects = robot_objects()
+            if "head4" in args.only:
+                for ob in keyed(objects):
+                    if not np.any(key_deviation.offsets_of(lod.prepare(bpy.context, ob, lod.LodSettings()).data)):
+                        continue  # its keys move nothing: the same LOD either way
+                    for line in bench(f"RobotExpressive {ob.name}", ob, args.ratio, args.strength, args.samples):
+                        print(line, flush=True)
+            if "robot" in args.only:
+                label = f"RobotExpressive, {len(objects)} objects as one asset"
+                for line in bench(label, objects, args.ratio, args.strength, args.samples):
+                    print(line, flush=True)
+    print("\nSummary: Shape Keys over no importance (keys: geometric mean over the keys; below 1 = closer)\n")
+    print(header("mesh", "strength", *[f"keys: {c}" for c in COLUMNS], *[f"rest: {c}" for c in COLUMNS]))
     for label, strength, keys, rest in SUMMARY:
-        print(row(label, f"{strength:g}", *[f"{keys[i]:.2f}x" for i in (0, 2, 1)],
-                  *[f"{rest[i]:.2f}x" for i in (0, 2, 1)]))
+        print(row(label, f"{strength:g}", *[f"{x:.2f}x" for x in keys], *[f"{x:.2f}x" for x in rest]))
 
 
 if __name__ == "__main__":

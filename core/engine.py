@@ -303,6 +303,9 @@ def _shape_keys(s: State, p: Problem, names, X, area):
         # shape as at rest, or a region the keys move, where the keys' error sets the cost,
         # would hardly feel it.
         key_quadrics *= p.quadric_scale[None, :, None]
+        if key_columns and p.options.key_scale_exponent != 1.0:
+            # The keys' own weight where the importance is (Options.key_scale_exponent).
+            key_quadrics[:len(key_columns)] *= (p.quadric_scale ** (p.options.key_scale_exponent - 1.0))[None, :, None]
     s.keys = KeyOffsets(
         quadrics=key_quadrics,
         columns=all_columns,

@@ -102,6 +102,10 @@ class Options:
         close in each pose too, only in the error (nothing is carried to the result).
       pose_weight: >= 0, what the poses' mean error counts against the rest error (1 =
         alike; 0 leaves the poses out).
+      key_scale_exponent: >= 0, the shape keys' planes of vertex i (not the poses') are
+        multiplied by quadric_scale_i raised to this: 1 (the default) scales them as the
+        rest planes; above 1 a key's error counts more than the rest where the importance
+        is (Source Shape Keys: the keys are what matters there).
       weld_distance: weld vertices closer than this before simplifying (split vertices of
         exported assets); None welds only exactly coincident ones, a negative value none.
       stitch_cracks: close T-junction cracks before simplifying (core.stitching): a
@@ -137,6 +141,7 @@ class Options:
     shape_attributes: Sequence[str] = ()
     pose_offsets: Any = None
     pose_weight: float = 1.0
+    key_scale_exponent: float = 1.0
 
     @classmethod
     def names(cls) -> tuple:

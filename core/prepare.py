@@ -194,6 +194,7 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
         if name not in vattrs or vattrs[name].shape[1] != 3:
             raise ValueError(f"shape_attributes names {name!r}, which is not a 3-component vertex attribute")
     pose_weight = checks.non_negative(o.pose_weight, "pose_weight")
+    key_scale_exponent = checks.non_negative(o.key_scale_exponent, "key_scale_exponent")
     poses = ()
     if o.pose_offsets is not None and pose_weight > 0:
         offsets = np.asarray(o.pose_offsets, dtype=np.float64)
@@ -210,7 +211,8 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
     options = dataclasses.replace(
         o, feature_angle=feature_angle, seed=int(o.seed), line_scale_exponent=line_scale_exponent,
         boundary_weight=boundary_weight, probabilistic_sigma=probabilistic_sigma, feature_weight=feature_weight,
-        min_quality=min_quality, pose_weight=pose_weight, preserve_seams=bool(o.preserve_seams),
+        min_quality=min_quality, pose_weight=pose_weight, key_scale_exponent=key_scale_exponent,
+        preserve_seams=bool(o.preserve_seams),
         remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
         uv_attributes=tuple(o.uv_attributes or ()), shape_attributes=tuple(o.shape_attributes or ()),
         weld_distance=None if o.weld_distance is None else float(o.weld_distance))

@@ -94,3 +94,64 @@ def test_importance_from_shape_keys_bakes_the_group(res):
     assert bake["source"] == "VERTEX_GROUP" and bake["group"] == "LOD_Importance"
     assert bake["largest_difference"] < 1e-6
     assert bake["below_cap_max"] == 0.0 and bake["top"] == pytest.approx(1.0)
+
+
+def test_report_measures_each_keys_own_region(res):
+    for run in ("none", "keys"):
+        for level in res[run]["levels"]:
+            crown, still = level["entry"]["shape_keys"]
+            for name in ("region_mean", "region_hausdorff", "region_mean_percent", "region_hausdorff_percent"):
+                assert math.isfinite(crown[name]) and crown[name] >= 0.0, (name, crown)
+            assert crown["region_mean"] <= crown["region_hausdorff"] <= crown["hausdorff"] + 1e-12
+            # The crown is the cap above z = 0.5 (a quarter of the sphere's area) and its fringe.
+            assert 15.0 < crown["region_area_percent"] < 45.0, crown
+            assert not any(key.startswith("region") for key in still)  # it moves nothing: no region
+
+
+def test_keyed_region_is_closer_with_the_source(res):
+    # What "a crown survives" means: with Source Shape Keys the crown's own region is closer.
+    for none, keys in zip(res["none"]["levels"], res["keys"]["levels"]):
+        crown_none, crown_keys = none["entry"]["shape_keys"][0], keys["entry"]["shape_keys"][0]
+        assert crown_keys["region_mean"] < crown_none["region_mean"], (crown_keys, crown_none)
+
+
+def test_last_run_says_keyed_region_for_the_shape_keys_source(res):
+    labels = [x[2] for x in res["panel"]["ball_none"] if x[0] == "label"]
+    density = [text for text in labels if "region kept" in (text or "")]
+    assert density and all(text.startswith(f"LOD{k}: keyed region kept ") for k, text in enumerate(density, 1)), labels
+    assert not any("painted region" in (text or "") for text in labels)
+    keys = [text for text in labels if " keys at 1: " in (text or "")]
+    assert all(" (in their regions " in text for text in keys), keys
+
+
+def test_a_part_without_keys_does_not_fail_the_asset(res):
+    several = res["several"]
+    assert several["mixed_result"] == ["FINISHED"]
+    ball, plain = several["mixed"]["Ball"], several["mixed"]["Plain"]
+    assert ball["asset"] == plain["asset"] is not None  # one asset
+    assert all(imp is not None and imp["region"] == "keyed" and imp["painted_density"] > 1.0
+               for imp in ball["importance"]), ball
+    assert plain["importance"] == [None] and "no importance (no shape keys)" in plain["warnings"], plain
+    assert several["mixed_inputs"][0] == pytest.approx(1.0) and several["mixed_inputs"][1] is None
+
+
+def test_none_with_keys_is_a_clear_error(res):
+    several = res["several"]
+    for case in ("none_api", "none_operator"):
+        message = several[case]
+        assert message is not None and 'none of the 2 objects ("Plain", "Plain2") has shape keys' in message, message
+        assert "Traceback" not in message
+    assert several["none_lods"] == [n for n in several["none_lods"] if not n.startswith("Plain2")]
+
+
+def test_importance_is_normalised_over_the_asset_in_scene_units(res):
+    pebble = res["several"]["pebble"]
+    # Each mesh its own reference: the pebble the keys shift by 0.01 counts as much as the crown.
+    assert pebble["1 mesh"]["min"] == pytest.approx(1.0, rel=1e-4) and pebble["1 mesh"]["quadric_max"] > 5.0
+    # Over the asset: what its motion is worth next to the crown's, and twice that at scale 2.
+    small, large = pebble["1 asset"], pebble["2 asset"]
+    assert 0.0 < small["max"] < 0.15 and small["min"] == pytest.approx(small["max"], rel=1e-4), small
+    assert large["max"] == pytest.approx(2.0 * small["max"], rel=1e-4)
+    assert small["quadric_max"] < 1.5
+    for entry in pebble.values():
+        assert entry["ball_max"] == pytest.approx(1.0)

@@ -133,3 +133,65 @@ def test_core_scales_the_keyed_error_with_importance():
     assert abs(len(important.faces) - len(plain.faces)) <= 2
     kept_plain, kept = bump[plain.vertex_origin].sum(), bump[important.vertex_origin].sum()
     assert kept >= 1.6 * kept_plain, (kept, kept_plain)
+
+
+def test_importance_against_a_given_reference():
+    # An asset's reference (asset.key_importance): a part moved half as far as the
+    # reference gets half the importance, one moved further saturates.
+    offsets = np.zeros((1, 4, 3))
+    offsets[0, :, 0] = [0.0, 0.5, 1.0, 2.0]
+    assert np.allclose(imp.shape_key_importance(offsets, reference=1.0), [0.0, 0.5, 1.0, 1.0])
+    assert np.array_equal(imp.shape_key_importance(offsets, reference=0.0), np.zeros(4))
+    # Without one, its own robust maximum: the same as motion_reference of key_motion.
+    moved = imp.key_motion(offsets)
+    assert np.allclose(moved, [0.0, 0.5, 1.0, 2.0])
+    assert np.allclose(imp.shape_key_importance(offsets),
+                       imp.shape_key_importance(offsets, reference=imp.motion_reference(moved)))
+    assert imp.motion_reference(np.zeros(5)) == 0.0
+
+
+def test_key_region_is_what_the_key_moves():
+    V, F = build.grid(10, alternate=False)
+    key = np.zeros_like(V)
+    key[:, 2] = np.where(V[:, 0] > 0.75, 1.0, 0.0)  # the right quarter...
+    key[0, 2] = 0.01  # ...and a corner vertex by 1 %, below REGION_SHARE: not the region
+    region = key_deviation.key_region(key, F)
+    touched = (V[F][:, :, 0] > 0.75).any(axis=1)  # a vertex moved: the triangle is in
+    assert np.array_equal(region, touched)
+    assert not key_deviation.key_region(np.zeros_like(V), F).any()
+    assert key_deviation.key_region(key, F, share=0.005)[(F == 0).any(axis=1)].all()
+    # The share of the area the region covers (a uniform grid: its share of the triangles).
+    assert key_deviation._area_share(V, F, region) == pytest.approx(100.0 * touched.mean())
+
+
+def test_the_keys_weight_follows_the_strength():
+    # Source Shape Keys: at g = 1 a key's planes get the factor times key_weight.
+    assert imp.key_weight(0.0) == 1.0 and imp.key_scale_exponent(0.0) == 1.0
+    assert imp.key_weight(imp.DEFAULT_STRENGTH) == pytest.approx(8.0)
+    for s in (0.1, 0.25, 0.5, 0.75, 1.0):
+        top = imp.factor(s)
+        assert top ** imp.key_scale_exponent(s) == pytest.approx(top * imp.key_weight(s), rel=1e-9)
+    g = np.array([0.0, 0.5, 1.0])
+    assert "key_scale_exponent" not in imp.controls(g, 1e-3, 0.5)  # other sources: the keys as the rest
+    assert imp.controls(g, 1e-3, 0.5, keys=True)["key_scale_exponent"] == imp.key_scale_exponent(0.5)
+
+
+def test_core_weighs_the_keys_more_with_their_exponent():
+    # The rippled bump of test_core_scales_the_keyed_error_with_importance: with the keys'
+    # planes weighted more where the importance is, the bump keeps more of its vertices.
+    V, F = build.grid(60)
+    r = np.linalg.norm(V[:, :2] - 0.5, axis=1)
+    bump = r < 0.2
+    key = np.zeros_like(V)
+    key[:, 2] = 0.1 * np.clip(1 - r / 0.2, 0, 1) ** 2 * (1 + 0.5 * np.sin(30 * V[:, 0]))
+    keys = dict(vertex_attributes={"key": key}, shape_attributes=("key",))
+    controls = imp.controls(np.where(bump, 1.0, 0.0), 1e-3, 0.25)
+    alike = core.simplify(V, F, ratio=0.1, **controls, **keys)
+    weighted = core.simplify(V, F, ratio=0.1, **controls, key_scale_exponent=2.0, **keys)
+    assert abs(len(weighted.faces) - len(alike.faces)) <= 2
+    assert bump[weighted.vertex_origin].sum() > 1.1 * bump[alike.vertex_origin].sum()
+    # The default leaves the run as it was; a negative exponent is refused.
+    assert np.array_equal(core.simplify(V, F, ratio=0.1, **controls, key_scale_exponent=1.0, **keys).faces,
+                          alike.faces)
+    with pytest.raises(ValueError, match="key_scale_exponent"):
+        core.simplify(V, F, ratio=0.1, key_scale_exponent=-1.0)

@@ -6,6 +6,8 @@ which gets the test meshes through an .npz file and returns the measured dicts.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -78,7 +80,44 @@ def test_samples_carry_their_triangle_and_barycentric_coordinates():
     np.testing.assert_array_equal(points, measure.sample_surface(v, f, 1000, np.random.default_rng(5)))
 
 
+def test_region_deviation_pools_each_direction_over_its_region():
+    # Two source triangles, region = the first. src: 3 samples on 0, 1 on 1; dst: 2 samples
+    # closest to source triangle 0, 2 to 1; the vertices likewise.
+    f = np.array([[0, 1, 2], [1, 3, 2]])
+    z2 = np.zeros((2, 3))
+    sampled = measure.Sampled(
+        src_triangle=np.array([0, 0, 0, 1]), src_bary=np.zeros((4, 3)), src_distance=np.array([1.0, 2.0, 3.0, 50.0]),
+        src_nearest=np.zeros(4, np.int64), src_nearest_bary=np.zeros((4, 3)),
+        src_vertices=np.array([0, 1, 2, 3]), src_vertex_distance=np.array([4.0, 0.5, 0.5, 60.0]),
+        dst_triangle=np.zeros(4, np.int64), dst_bary=np.zeros((4, 3)), dst_distance=np.array([10.0, 20.0, 7.0, 70.0]),
+        dst_vertices=np.array([0, 1]), dst_vertex_distance=np.array([5.0, 80.0]),
+        dst_nearest=np.array([0, 0, 1, 1]), dst_nearest_bary=np.zeros((4, 3)),
+        dst_vertex_nearest=np.array([0, 1]), dst_vertex_nearest_bary=z2)
+    r = measure.region_deviation(sampled, f, np.array([True, False]))
+    assert r["region_mean_src_to_dst"] == pytest.approx(2.0)  # samples 1, 2, 3
+    assert r["region_mean_dst_to_src"] == pytest.approx(15.0)  # samples 10, 20
+    assert r["region_mean"] == pytest.approx(8.5)  # the two directions' means, as the two-sided mean
+    # The largest: src's region vertices 0-2 (4.0; vertex 3 is only on triangle 1) and dst's
+    # points closest to triangle 0 (20.0; vertex 1 at 80 is closest to triangle 1).
+    assert r["region_hausdorff"] == pytest.approx(20.0)
+    assert (r["region_samples_src"], r["region_samples_dst"]) == (3, 2)
+    none = measure.region_deviation(sampled, f, np.zeros(2, bool))
+    assert np.isnan(none["region_mean"]) and np.isnan(none["region_hausdorff"]) and none["region_samples_src"] == 0
+    with pytest.raises(ValueError, match=r"region must be a \(2,\) bool array"):
+        measure.region_deviation(sampled, f, np.ones(3, bool))
+
+
 # ---------------------------------------------------------------- Blender side
+
+
+FLAP_HEIGHT = 0.5
+
+
+def flapped(v, f) -> dict:
+    """The plane with an extra triangle floating FLAP_HEIGHT above its left half (a LOD
+    piece that the source's samples never find: only the LOD's own samples see it)."""
+    flap = np.array([[0.1, 0.2, FLAP_HEIGHT], [0.4, 0.2, FLAP_HEIGHT], [0.25, 0.6, FLAP_HEIGHT]])
+    return {"flap_v": np.concatenate([v, flap]), "flap_f": np.concatenate([f, [[len(v), len(v) + 1, len(v) + 2]]])}
 
 
 @pytest.fixture(scope="module")
@@ -92,7 +131,9 @@ def measured(tmp_path_factory):
     np.savez(path, plane_v=plane_v, plane_f=plane_f, coarse_plane_v=coarse_plane_v, coarse_plane_f=coarse_plane_f,
              shifted_v=plane_v + [0.0, 0.0, 0.1], shifted_f=plane_f,
              fine_v=fine_v, fine_f=fine_f, coarse_v=coarse_v, coarse_f=coarse_f,
-             empty_v=plane_v, empty_f=np.empty((0, 3), np.int64))
+             empty_v=plane_v, empty_f=np.empty((0, 3), np.int64),
+             step_v=plane_v + np.outer(plane_v[:, 0] >= 0.7, [0.0, 0.0, 0.1]), step_f=plane_f,
+             **flapped(plane_v, plane_f))
     result = run_scenario("measure_deviation", {"meshes_npz": str(path)}, user_dir=tmp / "blender",
                           install=False, timeout=300)
     result["sagitta_fine"] = max_sagitta(fine_v, fine_f)
@@ -184,6 +225,47 @@ def test_surface_deviation_gives_the_normals_from_its_own_closest_points(measure
         assert with_normals[key] == without[key], key  # the distances do not change
 
 
+def test_region_of_a_shifted_plane_is_as_far_as_the_plane(measured):
+    r = measured["region_shifted"]
+    for key in ("region_hausdorff", "region_mean", "region_mean_src_to_dst", "region_mean_dst_to_src"):
+        assert r[key] == pytest.approx(0.1, abs=1e-6), key
+    assert r["region_mean"] == pytest.approx(r["mean"], rel=1e-5)
+    # The left half: half of each surface's area samples, both ways.
+    for side in ("src", "dst"):
+        assert abs(r["region_samples_" + side] / 20_000 - 0.5) < 0.02, r["region_samples_" + side]
+
+
+def test_region_sees_only_its_own_part_of_a_step(measured):
+    # The plane against itself raised by 0.1 right of x = 0.7 (a ramp from 0.6 to 0.7).
+    left, right, whole = (measured["region_step_" + k] for k in ("left", "right", "without"))
+    assert whole["mean"] > 0.02
+    assert left["region_hausdorff"] < 1e-6 and left["region_mean"] < 1e-7  # untouched there
+    assert 0.08 < right["region_mean"] <= 0.1 + 1e-6 and right["region_mean"] > 2 * whole["mean"]
+    assert right["region_hausdorff"] == pytest.approx(0.1, abs=1e-6)
+    for r in (left, right):
+        for key in ("hausdorff", "mean", "hausdorff_src_to_dst", "mean_dst_to_src", "points_src", "points_dst"):
+            assert r[key] == whole[key], key  # the whole surface's numbers do not change
+
+
+def test_region_counts_lod_points_whose_closest_source_point_is_in_it(measured):
+    # An extra triangle FLAP_HEIGHT above the left half: no source sample finds it, only
+    # its own samples do, and their closest source points are in the left half.
+    left, right = measured["region_flap_left"], measured["region_flap_right"]
+    assert left["region_mean_src_to_dst"] < 1e-7
+    assert left["region_hausdorff"] == pytest.approx(FLAP_HEIGHT, abs=1e-6)
+    assert left["region_mean_dst_to_src"] > 0.0 and left["region_mean"] > 0.0
+    assert right["region_hausdorff"] < 1e-6 and right["region_mean"] < 1e-7
+
+
+def test_an_empty_region_has_no_distances(measured):
+    for name in ("region_step_none", "region_flap_none"):
+        r = measured[name]
+        assert r["region_samples_src"] == r["region_samples_dst"] == 0
+        assert all(math.isnan(r[key]) for key in ("region_hausdorff", "region_mean", "region_mean_src_to_dst",
+                                                  "region_mean_dst_to_src")), r
+        assert r["mean"] > 0.0  # the whole surface is still measured
+
+
 def test_invalid_input_raises_value_error_naming_the_problem(measured):
     e = measured["errors"]
     assert "(m, 3, 3)" in e["normals_shape"]
@@ -192,6 +274,7 @@ def test_invalid_input_raises_value_error_naming_the_problem(measured):
     assert "outside" in e["index"]
     assert "not both" in e["both_counts"]
     assert "NaN" in e["nan"]
+    assert "region must be a (200,) bool array" in e["region_shape"]
 
 
 def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):

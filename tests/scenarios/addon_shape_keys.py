@@ -112,6 +112,75 @@ def panel(ball, plain) -> dict:
     return out
 
 
+def pebble(scale: float):
+    """A small sphere whose key "Crown" (the Ball's key name) shifts it by 0.01: a part the
+    keys barely move."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=0.3, location=(0, 4, 0))
+    ob = bpy.context.active_object
+    ob.name = "Pebble"
+    ob.scale = (scale, scale, scale)
+    co = array(ob.data.vertices, "co", 3).reshape(-1, 3).astype(np.float64)
+    ob.shape_key_add(name="Basis", from_mix=False)
+    shifted = (co + [0.0, 0.0, 0.01]).astype(np.float32).ravel()
+    ob.shape_key_add(name="Crown", from_mix=False).data.foreach_set("co", shifted)
+    bpy.context.view_layer.update()
+    return ob
+
+
+def several(ball, plain) -> dict:
+    """Source Shape Keys on several objects (one asset): a part without keys gets no
+    importance and a note; none with keys is an error; the importance is the asset's."""
+    lod = extension_module("addon.lod")
+    job_mod = extension_module("addon.job")
+    out = {}
+    # None of them has keys: through the API and the operator (the panel's path).
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=1.0, location=(-4, 0, 0))
+    plain2 = bpy.context.active_object
+    plain2.name = "Plain2"
+    settings = lod.LodSettings(ratios=(0.1,), importance_source='SHAPE_KEYS', measure_deviation=False)
+    try:
+        job_mod.LodJob(bpy.context, [plain, plain2], settings)
+        out["none_api"] = None
+    except lod.LodError as ex:
+        out["none_api"] = str(ex)
+    select_only(plain, plain2)
+    try:
+        bpy.ops.object.line_quadric_lod(ratio=0.1, levels=1, importance_source='SHAPE_KEYS', measure_deviation=False)
+        out["none_operator"] = None
+    except RuntimeError as ex:
+        out["none_operator"] = str(ex)
+    out["none_lods"] = sorted(ob.name for ob in bpy.data.objects if "_LOD" in ob.name and "Plain" in ob.name)
+    # One keyed part, one without keys: through the operator, as the panel runs it.
+    select_only(ball, plain)
+    out["mixed_result"] = sorted(bpy.ops.object.line_quadric_lod(
+        ratio=0.1, levels=1, importance_source='SHAPE_KEYS', measure_deviation=False))
+    reports = {rep["object"]: rep for rep in json.loads(bpy.context.scene.line_quadric_lod.last_report)}
+    out["mixed"] = {name: {"importance": [lv.get("importance") for lv in rep["levels"]],
+                           "warnings": rep["warnings"], "triangles": [lv["triangles"] for lv in rep["levels"]],
+                           "asset": bpy.data.objects[rep["levels"][0]["name"]].get("lqlod_asset")}
+                    for name, rep in reports.items()}
+    job = job_mod.LodJob(bpy.context, [ball, plain], settings)
+    out["mixed_inputs"] = [None if i.importance is None else float(np.max(i.importance)) for i in job.inputs]
+    # The asset's reference: a part the keys move by 0.01 (at scale 1 and 2) next to the
+    # Ball's crown, and the same without it (each mesh its own reference).
+    out["pebble"] = {}
+    for scale in (1.0, 2.0):
+        small = pebble(scale)
+        for shared in (True, False):
+            job_mod.ASSET_KEY_REFERENCE = shared
+            try:
+                job = job_mod.LodJob(bpy.context, [ball, small], settings)
+            finally:
+                job_mod.ASSET_KEY_REFERENCE = True
+            g_ball, g_small = job.inputs[0].importance, job.inputs[1].importance
+            quadric = job.inputs[1].core_options.quadric_scale
+            out["pebble"][f"{scale:g} {'asset' if shared else 'mesh'}"] = {
+                "ball_max": float(g_ball.max()), "max": float(g_small.max()), "min": float(g_small.min()),
+                "quadric_max": float(np.max(quadric))}
+        bpy.data.objects.remove(small)
+    return out
+
+
 def run() -> dict:
     remove_all_objects()
     ball = keyed_sphere()
@@ -128,4 +197,5 @@ def run() -> dict:
         "choices": choices([ball, plain]),
         "panel": panel(ball, plain),
         "bake": bake(ball),
+        "several": several(ball, plain),
     }

@@ -44,12 +44,29 @@ def run(meshes_npz: str) -> dict:
     result["normals_sphere_flat"] = normals("fine", "coarse", fine_n, coarse_flat)
     result["sphere_with_normals"] = deviation("fine", "coarse", n_samples=20_000, normals=(fine_n, coarse_n))
     result["sphere_without_normals"] = deviation("fine", "coarse", n_samples=20_000)
+    # A region of src (measure.region_deviation): the left half of the plane, the right half, none.
+    plane_v, plane_f = d["plane_v"], d["plane_f"]
+    x = plane_v[plane_f][:, :, 0]
+    left, right = x.max(axis=1) <= 0.5, x.min(axis=1) >= 0.7
+
+    def regional(a, b, region):
+        out = deviation(a, b, n_samples=20_000, keep_samples=True)
+        out.update(measure.region_deviation(out.pop("sampled"), d[a + "_f"], region))
+        return out
+
+    result["region_shifted"] = regional("plane", "shifted", left)
+    for name, region in (("left", left), ("right", right), ("none", np.zeros(len(plane_f), bool))):
+        result["region_step_" + name] = regional("plane", "step", region)
+        result["region_flap_" + name] = regional("plane", "flap", region)
+    result["region_step_without"] = deviation("plane", "step", n_samples=20_000)
+    unkept = deviation("plane", "step", n_samples=10, keep_samples=True)["sampled"]
     invalid_calls = {
         "normals_shape": lambda: normals("plane", "coarse_plane", up[:-1], coarse_up),
         "normals_nan": lambda: normals("plane", "coarse_plane", up, coarse_up * np.nan),
         "empty": lambda: deviation("plane", "empty"),
         "index": lambda: measure.surface_deviation(d["plane_v"], d["plane_f"] + 1000, d["plane_v"], d["plane_f"]),
         "both_counts": lambda: deviation("plane", "plane", n_samples=10, samples_per_unit_area=10),
+        "region_shape": lambda: measure.region_deviation(unkept, plane_f, left[:-1]),
         "nan": lambda: measure.surface_deviation(d["plane_v"] * np.nan, d["plane_f"], d["plane_v"], d["plane_f"]),
     }
     errors = value_errors(invalid_calls)
