@@ -276,9 +276,10 @@ def posed_summary(hausdorff: list, mean: list) -> dict:
 # ----------------------------------------------------------------------------- a level of a run
 
 
-def measure_level(lod_input, level, report: dict) -> tuple:
+def measure_level(lod_input, level, report: dict, index: int = 0) -> tuple:
     """What the level report adds for a measured ``level`` (a MeshData) of ``lod_input``
-    (lod.LodInput) whose measurement ``report`` kept its samples (``sampled``): (the level,
+    (lod.LodInput) whose measurement ``report`` kept its samples (``sampled``); ``index``:
+    the level's place in the chain (0 for LOD1): (the level,
     with the heat map's attributes when the settings ask for them, and the entries for the
     report: materials, regions, deviation_colors). A report without samples adds nothing."""
     sampled = report.get("sampled")
@@ -293,10 +294,14 @@ def measure_level(lod_input, level, report: dict) -> tuple:
     if lod_input.limit is not None:
         from . import limits  # (it builds on this module's sampling helpers)
         column, value, scene_scale = lod_input.limit
+        if isinstance(value, tuple):  # per level (pixels at each switch distance)
+            value = value[min(index, len(value) - 1)]
         kept = limits.level_report(data, sampled, column, value, lod_input.reference_diagonal or diagonal,
                                    scene_scale)
         if kept is not None:
             entry["limit"] = dict(kept, group=settings.limit_group)
+            if settings.limit_unit == 'PIXELS':
+                entry["limit"]["limit_pixels"] = settings.limit_distance
     if settings.deviation_colors:
         level = with_heat(level, sampled)
         scale = level.mesh_properties[SCALE_PROPERTY]

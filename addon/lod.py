@@ -103,7 +103,8 @@ class LodInput:
     # per material (addon/level_deviation.py).
     material_names: list = field(default_factory=list)
     # Painted limits (addon/limits.py): (the limit group's column of data.group_weights,
-    # the limit L in the object's units, their size in scene units), or None.
+    # the limit L in the object's units, or per level a tuple of them (pixels: set by
+    # compute), their size in scene units), or None.
     limit: Optional[tuple] = None
 
 
@@ -396,7 +397,7 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     options, names = _core_options(source, settings, data, g, poses)
     limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
-    if limit is not None:
+    if limit is not None and limit[1] is not None:  # (pixels: per level, from a first run: compute)
         column, value, _ = limit
         options = core.Options.of(options, vertex_max_error=limits.vertex_limits(data.group_weights[:, column], value))
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
@@ -410,12 +411,17 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
 def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, reference: Optional[float],
                   in_asset: bool, warnings: list) -> Optional[tuple]:
     """The settings' painted limit for ``source`` (addon/limits.py): (column, L in the
-    object's units, object to scene units), or None without a Limit Group. A group the
-    object lacks is a LodError, or for a part of an asset a note (the part is free);
-    ``reference``: the asset's diagonal in the object's units (None: its own)."""
+    object's units or None for pixels, object to scene units), or None without a Limit
+    Group. A group the object lacks is a LodError, or for a part of an asset a note (the
+    part is free); ``reference``: the asset's diagonal in the object's units (None: its
+    own)."""
     name = settings.limit_group
     if not name:
         return None
+    if settings.limit_unit == 'PIXELS' and settings.deviation_chain() is not None:
+        raise LodError("a Limit in pixels goes with triangle targets (each LOD's switch distance comes "
+                       "from its measured error); with Deviation or Screen Size targets give it in % "
+                       "or scene units")
     if name not in data.group_names:
         if in_asset:
             warnings.append(f'no vertex group "{name}": no painted limit on this part')
@@ -426,6 +432,8 @@ def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, referen
         warnings.append(f'the Limit Group "{name}" is empty: no painted limit')
         return None
     scale = asset_set.world_scale(source) if in_asset else 1.0
+    if settings.limit_unit == 'PIXELS':
+        return column, None, scale
     diagonal = reference if reference is not None else measure.bbox_diagonal(data.vertices, data.faces)
     value = limits.limit_in_mesh_units(settings.limit_distance, settings.limit_unit == 'PERCENT', diagonal, scale)
     return column, value, scale
@@ -608,6 +616,12 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     elif lod_input.deviations is not None:
         results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
                                                                      simplify_share, _simplify)
+    elif lod_input.limit is not None:
+        # Painted limits with triangle targets: measured as the report measures, rerun
+        # tighter where a level came out beyond (addon/limits.py).
+        first = _with_pixel_limit(lod_input, simplify) if lod_input.limit[1] is None else None
+        results, measured = _held_to_limit(lod_input, simplify, first)
+        requested = [None] * len(results)
     else:
         results = simplify(lod_input.targets)
         requested = [None] * len(results)
@@ -643,7 +657,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             rep = _level_report(data, levels[-1], measured.get(id(result)))
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
             # Per material and painted region, and the heat map when asked for.
-            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep)
+            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
             entry.update(more)
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
@@ -665,6 +679,56 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         reports.append(entry)
     report_progress(1.0)
     return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
+
+
+def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) -> tuple:
+    """(the chain under its painted limit, each level's measurement by id of its result).
+
+    The core holds the limit at its tracked points, and is given limits.CORE_SHARE of it;
+    the report's area samples fall between those points. Each level is measured here as
+    the report will measure it (the same output mesh, so the same samples: the report
+    reuses these measurements), and where a level used more than its limit the chain runs
+    again with that level's limits (and the ones before it) scaled down to
+    limits.RERUN_AIM of what was used, at most limits.RERUNS times."""
+    data, settings = lod_input.data, lod_input.settings
+    column, value, _ = lod_input.limit
+    weights = data.group_weights[:, column]
+    per_level = np.asarray(value if isinstance(value, tuple) else [value] * len(lod_input.targets), dtype=float)
+    rows = np.stack([limits.vertex_limits(weights, v) for v in per_level])
+    results = first if first is not None else simplify(lod_input.targets)
+    for attempt in range(limits.RERUNS + 1):
+        measured, used = {}, []
+        for k, result in enumerate(results):
+            level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
+            rep = deviation_search.deviation_report(data, level)
+            measured[id(result)] = rep
+            kept = limits.level_report(data, rep["sampled"], column, per_level[k],
+                                       lod_input.reference_diagonal or rep["diagonal"])
+            used.append(0.0 if kept is None else kept["limit_used"])
+        scale = limits.rerun_scales(used)
+        if scale is None or attempt == limits.RERUNS:
+            return results, measured
+        rows = limits.scaled_rows(rows, scale)
+        results = simplify(lod_input.targets, vertex_max_error=rows)
+    return results, measured
+
+
+def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
+    """The chain under a painted limit in pixels at each LOD's switch distance
+    (addon/limits.py): a first run without it gives each level's largest error ε_k
+    (measured, with the deviation search's quicker sampling), the limit is then
+    P / Pixel Error of it per level, and the chain runs again under those limits. Sets
+    the per-level limits into lod_input.limit."""
+    data, settings = lod_input.data, lod_input.settings
+    column, _, scale = lod_input.limit
+    free = simplify(lod_input.targets)
+    eps = [measure.surface_deviation(data.vertices, data.faces, r.vertices, r.faces,
+                                     n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"] for r in free]
+    per_level = limits.pixel_limits(eps, settings.limit_distance, settings.pixel_error)
+    weights = data.group_weights[:, column]
+    lod_input.limit = (column, tuple(float(v) for v in per_level), scale)
+    return simplify(lod_input.targets,
+                    vertex_max_error=np.stack([limits.vertex_limits(weights, v) for v in per_level]))
 
 
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:

@@ -82,6 +82,9 @@ LIMIT_UNITS = (
     ('PERCENT', "% of Size", "Percent of the object's bounding-box diagonal (the asset's, when "
                              "several objects are one asset)"),
     ('DISTANCE', "Scene Units", "A distance in scene units (a single object's own units)"),
+    ('PIXELS', "Pixels", "Pixels at each LOD's switch distance, where the whole LOD's largest error "
+                         "shows Pixel Error pixels: a Limit below Pixel Error keeps the region that much "
+                         "finer than the rest (with triangle targets)"),
 )
 # Kept only so files and scripts that set it still load: both act alike since issue 19.
 IMPORTANCE_MODES = (
@@ -282,11 +285,11 @@ SETTINGS = (
     Setting("limit_distance", 0.1, "Limit",
             "The largest distance to the source where the Limit Group's weight is 1, in percent "
             "of the object's bounding-box diagonal (the whole asset's when several objects are one "
-            "asset) or in scene units (Limit Unit)",
+            "asset), in scene units, or in pixels at each LOD's switch distance (Limit Unit)",
             low=0.0, low_open=True, blender={"min": 1e-6, "soft_max": 5.0, "precision": 3},
             what="limit", core="vertex_max_error"),
     Setting("limit_unit", 'PERCENT', "Limit Unit", "What Limit is measured in",
-            items=LIMIT_UNITS, core="(percent of the diagonal, or scene units)"),
+            items=LIMIT_UNITS, core="(percent of the diagonal, scene units, or pixels at the switch distance)"),
     # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
     # scripts, files and the command line's --mode keep working.
     Setting("importance_mode", 'SOFT', "Mode", "No longer used (one calibrated mode); kept so older files load",
@@ -491,6 +494,18 @@ def parse_deviation(text: str) -> tuple:
     if not (np.isfinite(value) and value > 0):
         raise ValueError(f"a deviation must be a positive number, got {text!r}")
     return value, percent
+
+
+def parse_limit(text: str) -> tuple:
+    """ "0.2%" -> (0.2, 'PERCENT'), "0.5px" -> (0.5, 'PIXELS'), "0.01" -> (0.01,
+    'DISTANCE'): a painted limit (addon/limits.py). ValueError for anything else."""
+    text = str(text).strip()
+    unit = 'PIXELS' if text.lower().endswith("px") else 'PERCENT' if text.endswith("%") else 'DISTANCE'
+    number = text[:-2] if unit == 'PIXELS' else text[:-1] if unit == 'PERCENT' else text
+    value = float(number)
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"a limit must be a positive number, got {text!r}")
+    return value, unit
 
 
 def deviation_text(value: float, percent: bool) -> str:

@@ -51,6 +51,18 @@ def test_a_limit_no_count_can_keep_stops_above_the_target(res):
     assert len(res["tight"]["warnings"]) == len(tight)
 
 
+def test_a_limit_in_pixels_is_relative_to_each_lods_own_error(res):
+    levels = res["pixels"]["levels"]
+    limits = [level["limit"]["limit"] for level in levels]
+    # 0.25 px where the whole LOD shows Pixel Error (1 px) at its switch distance: a quarter
+    # of its largest error, measured on a first run without the limit, per level.
+    assert limits == sorted(limits) and limits[-1] > 2 * limits[0]
+    for level in levels:
+        kept = level["limit"]
+        assert kept["limit_pixels"] == 0.25 and kept["within"], kept
+        assert kept["limit_percent"] <= 0.25 * level["hausdorff_percent"] * 1.05, (kept, level["hausdorff_percent"])
+
+
 def test_the_source_is_never_modified(res):
     assert res["source_unchanged"]
 
@@ -60,6 +72,7 @@ def test_a_missing_group_is_named_and_nothing_is_made(res):
     assert errors["missing"] == '"Plain" has no vertex group "Face" (Limit Group)'
     assert errors["operator"] is not None and 'no vertex group "Face"' in errors["operator"]
     assert errors["lods_made"] == []
+    assert "pixels goes with triangle targets" in errors["pixels_by_deviation"]
 
 
 def test_paint_limit_makes_the_group_and_enters_weight_paint(res):
@@ -72,5 +85,5 @@ def test_the_command_line_limits_the_objects_that_have_the_group(res):
     cli = res["command_line"]
     assert cli["choice"] == [["Face", None], ["", 'no painted limit (no vertex group "Face")']]
     assert cli["settings"] == ["Face", 0.2, "PERCENT"]
-    assert cli["units"] == "DISTANCE"
+    assert cli["units"] == "DISTANCE" and cli["pixels"] == "PIXELS"
     assert any("--limit-group and --limit go together" in p for p in cli["problems"])

@@ -20,8 +20,8 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from ..settings import (IMPORTANCE_GROUP, parse_deviation, PRESERVE_PAIRS, LodSettings, add_arguments, argument_problems,
-                        number, settings_from_arguments, whole_number)
+from ..settings import (IMPORTANCE_GROUP, parse_deviation, parse_limit, PRESERVE_PAIRS, LodSettings, add_arguments,
+                        argument_problems, number, settings_from_arguments, whole_number)
 from .asset_task import SCHEDULER_ENV
 from .errors import UsageError
 from .inputs import OUTPUT_FORMATS
@@ -97,6 +97,15 @@ class _Parser(argparse.ArgumentParser):
         raise HelpShown()
 
 
+def _limit(text):
+    try:
+        parse_limit(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected a positive number, a percentage such as 0.2% or pixels such as 0.5px, got {text!r}") from None
+    return text.strip()
+
+
 def _deviation(text):
     try:
         parse_deviation(text)
@@ -170,11 +179,12 @@ def build_parser(prog: Optional[str] = None) -> argparse.ArgumentParser:
                         "LOD stays within --limit of the source, at 0 the region is free, in between "
                         "the limit grows as 1/weight; the triangle target is met elsewhere "
                         "(docs/weight-painting.md)")
-    g.add_argument("--limit", type=_deviation, metavar="D",
+    g.add_argument("--limit", type=_limit, metavar="D",
                    help="with --limit-group: the largest distance where its weight is 1, in scene units "
-                        "(the object's own with --per-part) or with %% in percent of the bounding-box "
-                        "diagonal of the input's objects together (each object's with --per-part), "
-                        "e.g. 0.1%%")
+                        "(the object's own with --per-part), with %% in percent of the bounding-box "
+                        "diagonal of the input's objects together (each object's with --per-part), e.g. "
+                        "0.1%%, or with px in pixels at each LOD's switch distance (where the whole LOD "
+                        "shows --pixel-error pixels; with --ratios or --faces), e.g. 0.5px")
     add_arguments(g, ["importance_strength", "importance_mode", *(switch for switch, _ in PRESERVE_PAIRS),
                       *(strength for _, strength in PRESERVE_PAIRS), "use_modifiers"])
 
@@ -279,8 +289,8 @@ def lod_settings(args, **overrides) -> LodSettings:
     if getattr(args, "bake_normals", None):
         chain.update(bake_normals=True, bake_resolution=args.bake_normals)
     if getattr(args, "limit", None) is not None:
-        value, percent = parse_deviation(args.limit)
-        chain.update(limit_distance=value, limit_unit='PERCENT' if percent else 'DISTANCE')
+        value, unit = parse_limit(args.limit)
+        chain.update(limit_distance=value, limit_unit=unit)
     return settings_from_arguments(args, **chain, **overrides)
 
 

@@ -39,9 +39,10 @@ def lods(ob, **settings) -> dict:
 def errors(head, plain) -> dict:
     lod = extension_module("addon.lod")
     out = {}
-    for tag, ob in (("missing", plain),):
+    for tag, ob, extra in (("missing", plain, {}),
+                           ("pixels_by_deviation", head, {"limit_unit": 'PIXELS', "target_by": 'DEVIATION'})):
         try:
-            lod.generate_lods(bpy.context, ob, lod.LodSettings(ratio=0.5, levels=1, limit_group="Face"))
+            lod.generate_lods(bpy.context, ob, lod.LodSettings(ratio=0.5, levels=1, limit_group="Face", **extra))
             out[tag] = None
         except lod.LodError as ex:
             out[tag] = str(ex)
@@ -76,6 +77,8 @@ def command_line(objects) -> dict:
     parsed = parser.parse_args(["--limit-group", "Face", "--limit", "0.2%", "--report", "r.json"])
     s = arguments.lod_settings(parsed, limit_group="Face")
     out["settings"] = [s.limit_group, s.limit_distance, s.limit_unit]
+    parsed = parser.parse_args(["--limit", "0.5px", "--report", "r.json"])
+    out["pixels"] = arguments.lod_settings(parsed).limit_unit
     parsed = parser.parse_args(["--limit", "0.02", "--report", "r.json"])
     out["units"] = arguments.lod_settings(parsed).limit_unit
     out["problems"] = arguments.check_args(parsed)
@@ -92,11 +95,13 @@ def run() -> dict:
     free = lods(head)
     held = lods(head, limit_group="Face", limit_distance=LIMIT_PERCENT)
     tight = lods(head, limit_group="Face", limit_distance=0.005)
+    pixels = lods(head, limit_group="Face", limit_distance=0.25, limit_unit='PIXELS')
     return {
         "input": {"triangles": len(head.data.polygons), "painted": int(np.count_nonzero(weight > 0))},
         "free": free,
         "held": held,
         "tight": tight,
+        "pixels": pixels,
         "source_unchanged": bool(np.array_equal(before, array(head.data.vertices, "co", 3))),
         "errors": errors(head, plain),
         "paint": paint_limit(plain),
