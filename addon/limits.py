@@ -35,9 +35,9 @@ from .level_deviation import at_samples
 # The core holds the limit at its tracked points (the source's vertices and a grid inside
 # its faces; the LOD's vertices and points of its faces): the report's area samples fall
 # between them, up to 1.42x the core's bound on the test sphere's chain in pixels
-# (tests/scenarios/addon_limits.py), 1.05x on bench/limits.py. So the core is given this
-# share of the limit, and a level the report's sampler still finds beyond is rerun
-# tighter (lod._held_to_limit, RERUN_AIM).
+# (tests/scenarios/addon_limits.py, before reruns). So the core is given this share of
+# the limit, and a level the report's sampler still finds beyond is rerun tighter
+# (lod._held_to_limit, RERUN_AIM).
 CORE_SHARE = 0.85
 # A level measured beyond its limit (the report's limit_used above 1) runs again with its
 # core limits times RERUN_AIM / limit_used, at most RERUNS times (lod._held_to_limit).

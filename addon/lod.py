@@ -700,7 +700,8 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
         measured, used = {}, []
         for k, result in enumerate(results):
             level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
-            rep = deviation_search.deviation_report(data, level)
+            normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
+            rep = deviation_search.deviation_report(data, level, normals)  # (as _level_report measures)
             measured[id(result)] = rep
             kept = limits.level_report(data, rep["sampled"], column, per_level[k],
                                        lod_input.reference_diagonal or rep["diagonal"])

@@ -270,14 +270,9 @@ class TrackedDistance:
         loose = np.flatnonzero(is_new & (face_far > limit[collapse]))
         if len(loose):
             t = new_tri[loose]
-            if self._kept is None:
-                # (The far edge's points are as far from the source as before: it does not move.)
-                samples = np.stack([t.mean(axis=1), 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 0] + t[:, 2])],
-                                   axis=1).reshape(-1, 3)
-            else:
-                # Under painted limits, the source side's grid on the new faces too: few faces
-                # are measured, and a coarse LOD's large ones strayed between three points.
-                samples = np.einsum("gk,fkj->fgj", self._limit_frame[3], t).reshape(-1, 3)
+            # (The far edge's points are as far from the source as before: it does not move.)
+            samples = np.stack([t.mean(axis=1), 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 0] + t[:, 2])],
+                               axis=1).reshape(-1, 3)
             per_face = samples.shape[0] // len(loose)
             sample_row = np.repeat(loose, per_face)
             # First the input triangle of the face's nearest point inside an input face
