@@ -246,53 +246,58 @@ class _ImportanceOperator:
         return result
 
 
-class OBJECT_OT_line_quadric_lod_paint(_ImportanceOperator, bpy.types.Operator):
+class _PaintGroupOperator(_ImportanceOperator):
+    """Make (or reuse) a vertex group, make it the panel's, and enter Weight Paint mode on it."""
+
+    group_name = ""
+    hint = ""
+
+    def use_group(self, context, ob, group):
+        raise NotImplementedError
+
+    def execute(self, context):
+        if self.report_blocker(context):
+            return {'CANCELLED'}
+        ob = context.active_object
+        group = ob.vertex_groups.get(self.group_name) or ob.vertex_groups.new(name=self.group_name)
+        self.use_group(context, ob, group)
+        if ob.mode != 'WEIGHT_PAINT':
+            try:
+                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
+            except RuntimeError as ex:
+                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
+                return {'CANCELLED'}
+        self.report({'INFO'}, f'Painting "{self.group_name}": {self.hint}')
+        return {'FINISHED'}
+
+
+class OBJECT_OT_line_quadric_lod_paint(_PaintGroupOperator, bpy.types.Operator):
     """Paint where detail matters: creates (or reuses) the vertex group "LOD_Importance" and enters Weight Paint mode on it"""
 
     bl_idname = "object.line_quadric_lod_paint"
     bl_label = "Paint Importance"
     bl_options = {'REGISTER', 'UNDO'}
+    group_name = IMPORTANCE_GROUP
+    hint = "weight 1 = keep most detail"
 
-    def execute(self, context):
-        if self.report_blocker(context):
-            return {'CANCELLED'}
-        ob = context.active_object
-        group = ob.vertex_groups.get(IMPORTANCE_GROUP) or ob.vertex_groups.new(name=IMPORTANCE_GROUP)
+    def use_group(self, context, ob, group):
         _use_importance_group(context, ob, group)
-        if ob.mode != 'WEIGHT_PAINT':
-            try:
-                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
-            except RuntimeError as ex:
-                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
-                return {'CANCELLED'}
-        self.report({'INFO'}, f'Painting "{IMPORTANCE_GROUP}": weight 1 = keep most detail')
-        return {'FINISHED'}
 
 
-class OBJECT_OT_line_quadric_lod_paint_limit(_ImportanceOperator, bpy.types.Operator):
+class OBJECT_OT_line_quadric_lod_paint_limit(_PaintGroupOperator, bpy.types.Operator):
     """Paint how far the LODs may move: creates (or reuses) the vertex group "LOD_Limit", makes it the Limit Group and enters Weight Paint mode on it (weight 1 = within Limit, 0 = free)"""
 
     bl_idname = "object.line_quadric_lod_paint_limit"
     bl_label = "Paint Limit"
     bl_options = {'REGISTER', 'UNDO'}
+    group_name = LIMIT_GROUP
+    hint = "weight 1 = the LODs stay within Limit, 0 = free"
 
-    def execute(self, context):
-        if self.report_blocker(context):
-            return {'CANCELLED'}
-        ob = context.active_object
-        group = ob.vertex_groups.get(LIMIT_GROUP) or ob.vertex_groups.new(name=LIMIT_GROUP)
+    def use_group(self, context, ob, group):
         ob.vertex_groups.active_index = group.index
         panel = scene_settings(context)
         if panel is not None:
             panel.limit_group = group.name
-        if ob.mode != 'WEIGHT_PAINT':
-            try:
-                bpy.ops.object.mode_set(mode='WEIGHT_PAINT')
-            except RuntimeError as ex:
-                self.report({'ERROR'}, f'Could not enter Weight Paint mode on "{ob.name}": {ex}')
-                return {'CANCELLED'}
-        self.report({'INFO'}, f'Painting "{LIMIT_GROUP}": weight 1 = the LODs stay within Limit, 0 = free')
-        return {'FINISHED'}
 
 
 class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Operator):

@@ -97,22 +97,20 @@ class _Parser(argparse.ArgumentParser):
         raise HelpShown()
 
 
-def _limit(text):
-    try:
-        parse_limit(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected a positive number, a percentage such as 0.2% or pixels such as 0.5px, got {text!r}") from None
-    return text.strip()
+def _parsed_by(parse, expected: str):
+    """An argparse type: ``text`` as given, once ``parse`` accepts it; else the error
+    saying what was ``expected``."""
+    def argument(text):
+        try:
+            parse(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+        return text.strip()
+    return argument
 
 
-def _deviation(text):
-    try:
-        parse_deviation(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected a positive number, or a percentage such as 0.5%, got {text!r}") from None
-    return text.strip()
+_limit = _parsed_by(parse_limit, "a positive number, a percentage such as 0.2% or pixels such as 0.5px")
+_deviation = _parsed_by(parse_deviation, "a positive number, or a percentage such as 0.5%")
 
 
 _positive_int = whole_number(1)
