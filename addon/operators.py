@@ -211,23 +211,33 @@ def _use_importance_group(context, ob, group):
         panel.importance_group = group.name
 
 
-class _ImportanceOperator:
-    """Shared checks of the two importance helpers: an active mesh object in Object or
-    Weight Paint mode; poll() explains what is missing, execute() reports it."""
+class _Blocked:
+    """An operator whose ``blocker(context)`` says why it cannot run (or None): poll()
+    explains it, execute() reports it (``report_blocker``)."""
+
+    blocker = staticmethod(lambda context: None)
 
     @classmethod
     def poll(cls, context):
-        blocker = _importance_blocker(context)
+        blocker = cls.blocker(context)
         if blocker:
-            cls.poll_message_set(blocker)
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set(blocker)
             return False
         return True
 
     def report_blocker(self, context) -> bool:
-        blocker = _importance_blocker(context)
+        blocker = self.blocker(context)
         if blocker:
             self.report({'ERROR'}, blocker)
         return bool(blocker)
+
+
+class _ImportanceOperator(_Blocked):
+    """Shared checks of the importance and painting helpers: an active mesh object in
+    Object or Weight Paint mode."""
+
+    blocker = staticmethod(_importance_blocker)
 
     def write_group(self, ob, group: str, compute):
         """``compute()`` -> (per-vertex values in [0, 1], anything else), written into the
@@ -398,26 +408,16 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         return {'FINISHED'}
 
 
-class OBJECT_OT_line_quadric_lod_show_deviation(bpy.types.Operator):
+class OBJECT_OT_line_quadric_lod_show_deviation(_Blocked, bpy.types.Operator):
     """Show where the active LOD differs from its source: its distance per vertex as colours (blue on the source, red at its largest), in Solid shading by attribute; measured now if the LOD does not carry it. The source is not changed"""
 
     bl_idname = "object.line_quadric_lod_show_deviation"
     bl_label = "Show Deviation"
     bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        blocker = deviation_view.blocker(context)
-        if blocker:
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set(blocker)
-            return False
-        return True
+    blocker = staticmethod(deviation_view.blocker)
 
     def execute(self, context):
-        blocker = deviation_view.blocker(context)
-        if blocker:
-            self.report({'ERROR'}, blocker)
+        if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
         settings = scene_settings(context)
@@ -442,21 +442,18 @@ class OBJECT_OT_line_quadric_lod_show_deviation(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class OBJECT_OT_line_quadric_lod_deviation_back(bpy.types.Operator):
+def _not_switched(context):
+    settings = scene_settings(context)
+    return "Show Deviation has not switched the view" if settings is None or not settings.deviation_view else None
+
+
+class OBJECT_OT_line_quadric_lod_deviation_back(_Blocked, bpy.types.Operator):
     """Put the viewport shading and the LODs' active colour back as they were before Show Deviation"""
 
     bl_idname = "object.line_quadric_lod_deviation_back"
     bl_label = "Back"
     bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        settings = scene_settings(context)
-        if settings is None or not settings.deviation_view:
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set("Show Deviation has not switched the view")
-            return False
-        return True
+    blocker = staticmethod(_not_switched)
 
     def execute(self, context):
         restored = deviation_view.back(scene_settings(context))
