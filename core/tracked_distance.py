@@ -156,11 +156,18 @@ class TrackedDistance:
         # What bounds each point, and each collapse's new fan: ``bound`` or a painted
         # limit, whichever is smaller (a collapse: the tightest limit of its old fan's
         # faces and points).
-        point_bound = np.minimum(bound, _inverse(self.point_tightness[point]))
-        fan_tightness = np.zeros(c)
-        np.maximum.at(fan_tightness, collapse, self.face_tightness[ids])
-        np.maximum.at(fan_tightness, owner, self.point_tightness[point])
-        collapse_bound = np.minimum(bound, _inverse(fan_tightness))
+        if self._limit_frame is None:  # max_error alone: one bound (and no per-point arrays to build)
+            point_bound = np.full(len(point), float(bound))
+            collapse_bound = np.full(c, float(bound))
+            local_bound = np.full(c, np.inf)
+        else:
+            point_limit = _inverse(self.point_tightness[point])
+            point_bound = np.minimum(bound, point_limit)
+            fan_tightness = np.zeros(c)
+            np.maximum.at(fan_tightness, collapse, self.face_tightness[ids])
+            np.maximum.at(fan_tightness, owner, self.point_tightness[point])
+            local_bound = _inverse(fan_tightness)
+            collapse_bound = np.minimum(bound, local_bound)
         limit = CLOSE_ENOUGH * point_bound
 
         # Source to LOD: the bound on the face its face becomes; where that is too loose
@@ -195,8 +202,7 @@ class TrackedDistance:
             d[loose] = np.sqrt(d2)
             new_face[loose] = face_of
         beyond = np.bincount(owner[d > point_bound], minlength=c) > 0
-        local_bound = _inverse(fan_tightness)
-        beyond_limit = np.bincount(owner[d > _inverse(self.point_tightness[point])], minlength=c) > 0
+        beyond_limit = False if self._limit_frame is None else np.bincount(owner[d > point_limit], minlength=c) > 0
 
         face_far, lod_worst, vertex = self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face,
                                                           moved, moving, ring, CLOSE_ENOUGH * collapse_bound, c)
