@@ -603,6 +603,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             return progress is None or progress(reached[0]) is not False
         return _simplify(lod_input, targets, step, **options)
 
+    built = {}  # output meshes already made (under a painted limit): {id(result): (result, mesh)}
     if lod_input.in_asset and not lod_input.targets and lod_input.deviations is not None:
         # A part too small to search (addon/asset.py): whole at every level of the asset.
         measured = {}
@@ -620,7 +621,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         # Painted limits with triangle targets: measured as the report measures, rerun
         # tighter where a level came out beyond (addon/limits.py).
         first = _with_pixel_limit(lod_input, simplify) if lod_input.limit[1] is None else None
-        results, measured = _held_to_limit(lod_input, simplify, first)
+        results, measured, built = _held_to_limit(lod_input, simplify, first)
         requested = [None] * len(results)
     else:
         results = simplify(lod_input.targets)
@@ -637,6 +638,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
         if k > 1 and result is results[k - 2]:  # a level repeated (an asset's part): one mesh
             levels.append(levels[-1])
+        elif id(result) in built and built[id(result)][0] is result:  # (measured under a limit)
+            levels.append(built[id(result)][1])
         else:
             levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
@@ -682,7 +685,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
 
 
 def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) -> tuple:
-    """(the chain under its painted limit, each level's measurement by id of its result).
+    """(the chain under its painted limit, each level's measurement by id of its result,
+    and each level's output mesh: {id: (result, mesh)}).
 
     The core holds the limit at its tracked points, and is given limits.CORE_SHARE of it;
     the report's area samples fall between those points. Each level is measured here as
@@ -697,9 +701,10 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
     rows = np.stack([limits.vertex_limits(weights, v) for v in per_level])
     results = first if first is not None else simplify(lod_input.targets)
     for attempt in range(limits.RERUNS + 1):
-        measured, used = {}, []
+        measured, built, used = {}, {}, []
         for k, result in enumerate(results):
             level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
+            built[id(result)] = (result, level)
             normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
             rep = deviation_search.deviation_report(data, level, normals)  # (as _level_report measures)
             measured[id(result)] = rep
@@ -708,10 +713,10 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
             used.append(0.0 if kept is None else kept["limit_used"])
         scale = limits.rerun_scales(used)
         if scale is None or attempt == limits.RERUNS:
-            return results, measured
+            return results, measured, built
         rows = limits.scaled_rows(rows, scale)
         results = simplify(lod_input.targets, vertex_max_error=rows)
-    return results, measured
+    return results, measured, built
 
 
 def _with_pixel_limit(lod_input: LodInput, simplify) -> list:

@@ -121,16 +121,21 @@ def test_worst_key_is_the_furthest():
     assert key_deviation.worst(keys)["name"] == "B" and key_deviation.worst([]) is None
 
 
+def _rippled_bump():
+    """(V, F, the bump's vertices, the core's key options): a flat sheet whose one key
+    raises a rippled bump in its middle."""
+    V, F = build.grid(60)
+    r = np.linalg.norm(V[:, :2] - 0.5, axis=1)
+    key = np.zeros_like(V)
+    key[:, 2] = 0.1 * np.clip(1 - r / 0.2, 0, 1) ** 2 * (1 + 0.5 * np.sin(30 * V[:, 0]))
+    return V, F, r < 0.2, dict(vertex_attributes={"key": key}, shape_attributes=("key",))
+
+
 def test_core_scales_the_keyed_error_with_importance():
     # A flat sheet whose key raises a rippled bump: there the keys' error sets the cost, so
     # importance on the bump must scale it too (it scaled the rest quadric only, and the
     # bump kept 173 vertices rather than 129; scaled, 237).
-    V, F = build.grid(60)
-    r = np.linalg.norm(V[:, :2] - 0.5, axis=1)
-    bump = r < 0.2
-    key = np.zeros_like(V)
-    key[:, 2] = 0.1 * np.clip(1 - r / 0.2, 0, 1) ** 2 * (1 + 0.5 * np.sin(30 * V[:, 0]))
-    keys = dict(vertex_attributes={"key": key}, shape_attributes=("key",))
+    V, F, bump, keys = _rippled_bump()
     plain = core.simplify(V, F, ratio=0.1, **keys)
     important = core.simplify(V, F, ratio=0.1, **imp.controls(np.where(bump, 1.0, 0.0), 1e-3, 0.5), **keys)
     assert abs(len(important.faces) - len(plain.faces)) <= 2
@@ -182,12 +187,7 @@ def test_the_keys_weight_follows_the_strength():
 def test_core_weighs_the_keys_more_with_their_exponent():
     # The rippled bump of test_core_scales_the_keyed_error_with_importance: with the keys'
     # planes weighted more where the importance is, the bump keeps more of its vertices.
-    V, F = build.grid(60)
-    r = np.linalg.norm(V[:, :2] - 0.5, axis=1)
-    bump = r < 0.2
-    key = np.zeros_like(V)
-    key[:, 2] = 0.1 * np.clip(1 - r / 0.2, 0, 1) ** 2 * (1 + 0.5 * np.sin(30 * V[:, 0]))
-    keys = dict(vertex_attributes={"key": key}, shape_attributes=("key",))
+    V, F, bump, keys = _rippled_bump()
     controls = imp.controls(np.where(bump, 1.0, 0.0), 1e-3, 0.25)
     alike = core.simplify(V, F, ratio=0.1, **controls, **keys)
     weighted = core.simplify(V, F, ratio=0.1, **controls, key_scale_exponent=2.0, **keys)
