@@ -18,6 +18,8 @@ Public API:
         LOD skin weights fitted to the poses (skinned characters, issue 19)
     budget                      one triangle budget for many parts (an asset), split
         by error: split_by_error(parts, targets) -> counts per level and part
+    assembly                    many parts (an asset's meshes) in one run: combine(parts) ->
+        one mesh and Options, split(result, layout) -> one result per part
     shading                     Blender's corner normals from smooth flags and sharp edges,
         and the geometry of comparing two meshes' shading normals
 """
@@ -38,6 +40,7 @@ from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
 from . import shading  # shading normals and their deviation (addon/measure.py's normal_deviation)
 from . import budget  # one triangle budget for many parts, split by error (addon/asset.py)
+from . import assembly  # many parts in one run, and its results split back (addon/job.py)
 from . import skinning  # posed error and fitted weights for skinned LODs (addon/lod.py)
 
 __all__ = [
@@ -61,4 +64,5 @@ __all__ = [
     "shading",
     "skinning",
     "budget",
+    "assembly",
 ]

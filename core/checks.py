@@ -1,6 +1,8 @@
 """Input checking: every bad argument gets a ValueError that names it."""
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 
 
@@ -76,7 +78,10 @@ def non_negative(value, name: str) -> float:
     return x
 
 
-def targets(targets, m: int) -> list:
+def targets(targets, m: int, drawn: Optional[int] = None) -> list:
+    """``targets`` as ints, non-increasing, each at most the input's count: ``m`` faces,
+    or ``drawn`` when parts are drawn several times (Options.part_copies)."""
+    top = m if drawn is None else drawn
     out = []
     for t in targets:
         if isinstance(t, (bool, np.bool_)) or int(t) != t:
@@ -84,8 +89,9 @@ def targets(targets, m: int) -> list:
         t = int(t)
         if t < 0:
             raise ValueError(f"target face count must be >= 0, got {t}")
-        if t > m:
-            raise ValueError(f"target of {t} faces is more than the input's {m} faces")
+        if t > top:
+            raise ValueError(f"target of {t} faces is more than the input's {m} faces" if drawn is None else
+                             f"target of {t} faces is more than the {top} faces the input's parts draw")
         out.append(t)
     if not out:
         raise ValueError("give at least one target")
@@ -144,3 +150,27 @@ def edge_list(edges, n: int, name: str) -> np.ndarray:
     if e.min() < 0 or e.max() >= n:
         raise ValueError(f"{name} index vertices outside 0..{n - 1}")
     return e.astype(np.int64)
+
+
+def parts(vertex_part, part_copies, n: int) -> tuple:
+    """(labels (n,) int64 or None, copies (n,) float64 per vertex or None): Options.vertex_part
+    and Options.part_copies checked; copies need the labels."""
+    if vertex_part is None:
+        if part_copies is not None:
+            raise ValueError("part_copies needs vertex_part: which part each vertex belongs to")
+        return None, None
+    labels = np.asarray(vertex_part)
+    if labels.shape != (n,):
+        raise ValueError(f"vertex_part must have one value per vertex, shape ({n},), got {labels.shape}")
+    if n and (not np.issubdtype(labels.dtype, np.integer) or labels.min() < 0):
+        raise ValueError("vertex_part must hold part numbers: integers >= 0")
+    labels = labels.astype(np.int64)
+    if part_copies is None:
+        return labels, None
+    copies = np.asarray(part_copies, dtype=np.float64)
+    count = int(labels.max()) + 1 if n else 0
+    if copies.ndim != 1 or len(copies) < count:
+        raise ValueError(f"part_copies must have one value per part ({count}), got shape {copies.shape}")
+    if not np.isfinite(copies).all() or (copies < 1).any() or (copies != np.round(copies)).any():
+        raise ValueError("part_copies must be whole numbers >= 1: how many times each part is drawn")
+    return labels, copies[labels]

@@ -4,7 +4,10 @@ Edge collapse never deletes a part (rule no_bare_vertex in core.guards): a bolt,
 card or a piece of debris keeps at least one triangle, a closed one four. At the far
 LODs of a game asset engines prefer such parts gone rather than left as shapeless
 fragments, so with ``remove_small_components`` the engine, once no collapse is possible,
-drops the smallest parts instead.
+drops the smallest parts instead. Before that, a part smaller than the error the LOD
+already has leaves it (:func:`smaller_than`): its removal costs less than keeping it
+costs the rest of the mesh (issue 33: 500 bolts of 12 triangles held a CAD part's LOD
+at 2,000 triangles, and a bolt kept as a tetrahedron looks like nothing).
 """
 from __future__ import annotations
 
@@ -29,13 +32,15 @@ def face_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     return vertex_labels(faces, n_vertices)[faces[:, 0]]
 
 
-def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int):
+def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int,
+                     face_weight=None):
     """((m,) bool of the faces to delete, how many parts they are), or None when no part
     can go.
 
     Parts go smallest surface area first, as many as it takes to remove ``need`` faces,
     but the largest part always stays and so does every part with a locked vertex (what
-    the artist locked is never removed).
+    the artist locked is never removed). ``face_weight``: (m,) what each face counts
+    toward ``need`` (Options.part_copies), default 1.
     """
     n = len(vertices)
     label = face_labels(faces, n)
@@ -46,7 +51,7 @@ def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray
         return None
     _, area = face_frames(vertices, faces)
     part_area = np.bincount(part_of_face, weights=area, minlength=len(parts))
-    part_faces = np.bincount(part_of_face, minlength=len(parts))
+    part_faces = np.bincount(part_of_face, weights=face_weight, minlength=len(parts))
     has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=len(parts)) > 0
     order = np.argsort(part_area, kind="stable")
     spare = order[:-1]  # the largest part stays
@@ -57,3 +62,42 @@ def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray
     drop = np.zeros(len(parts), dtype=bool)
     drop[spare[:upto]] = True
     return drop[part_of_face], int(drop.sum())
+
+
+def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, size: float, need: float,
+                 face_weight=None) -> tuple:
+    """(faces to delete (m,) bool or None, how many parts, the size of the smallest part
+    that may still go (inf: none)): the parts whose bounding-box diagonal is below
+    ``size``, smallest first, no more than it takes to remove ``need`` faces (counted
+    with ``face_weight`` (m,), default 1). Never the largest part (by area) nor one with
+    a locked vertex."""
+    n = len(vertices)
+    if len(faces) == 0:
+        return None, 0, np.inf
+    label = vertex_labels(faces, n)
+    used = np.unique(faces)
+    parts, part_of_vertex = np.unique(label[used], return_inverse=True)
+    if len(parts) < 2:
+        return None, 0, np.inf
+    lo = np.full((len(parts), 3), np.inf)
+    hi = np.full((len(parts), 3), -np.inf)
+    np.minimum.at(lo, part_of_vertex, vertices[used])
+    np.maximum.at(hi, part_of_vertex, vertices[used])
+    diagonal = np.linalg.norm(hi - lo, axis=1)
+    part_of_face = np.searchsorted(parts, label[faces[:, 0]])
+    _, area = face_frames(vertices, faces)
+    part_area = np.bincount(part_of_face, weights=area, minlength=len(parts))
+    has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=len(parts)) > 0
+    may_go = ~has_lock
+    may_go[int(np.argmax(part_area))] = False
+    spare = np.flatnonzero(may_go & (diagonal < size))
+    spare = spare[np.argsort(diagonal[spare], kind="stable")]
+    part_faces = np.bincount(part_of_face, weights=face_weight, minlength=len(parts))
+    upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="right")) if need > 0 else 0
+    drop = np.zeros(len(parts), dtype=bool)
+    drop[spare[:upto]] = True
+    rest = diagonal[may_go & ~drop]
+    smallest = float(rest.min()) if len(rest) else np.inf
+    if upto == 0:
+        return None, 0, smallest
+    return drop[part_of_face], upto, smallest

@@ -61,6 +61,9 @@ LATER_ROUND_SHARE = 0.25
 # took before. At 1e-8 (0.01 %), beast's Hausdorff distance grew by a sixth: small
 # features hide below a small mean.
 ORDER_FREE_COST = 1e-9
+# Parts smaller than the LOD's error leave it (_drop_smaller_than_error); those the target
+# did not need are looked at again once the error has grown by this factor.
+DROP_RECHECK_GROWTH = 1.25
 
 
 @dataclass
@@ -134,6 +137,8 @@ class State:
     ladder: tuple = ()  # core.guards.relaxation_ladder of this run
     guards: object = None  # the ladder step in force
     removed_components: int = 0
+    copies: object = None  # (n,) how many times each vertex's part is drawn (Problem.copies), or None
+    drop_at: float = np.inf  # the error (normalised) at which the smallest part that may go is smaller
     slivers: object = None  # InputSlivers
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
@@ -177,6 +182,7 @@ def run(p: Problem) -> list:
     )
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
+    s.copies = p.copies
     # (Limits only grow along a chain: the first level's limited vertices are all there are.)
     limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits[0])
     if not limited.any():
@@ -187,6 +193,8 @@ def run(p: Problem) -> list:
                                   everywhere=p.max_error is not None)
         s.bound = DistanceBound(tracker, np.inf if p.max_error is None else p.max_error[0],
                                 np.zeros(len(conn.edges), dtype=np.int8), limited)
+    if p.options.remove_small_components and (s.bound is None or not s.bound.global_bound):
+        s.drop_at = components.smaller_than(s.F, s.V, _kept_parts(s), 0.0, 0)[2]
     if p.options.shape_attributes or p.pose_attributes:
         _shape_keys(s, p, names, X, area)
     input_quality = np.ones(p.run_faces)
@@ -207,14 +215,14 @@ def run(p: Problem) -> list:
     p.faces = None
 
     results = []
-    start_faces = len(s.F)
+    start_faces = _drawn(s)
     final_target = p.targets[-1]
     passes = 0
     stop = STOP_TARGET
     level = 0
     while level < len(p.targets):
         target = p.targets[level]
-        if len(s.F) <= target + 0 or stop != STOP_TARGET:
+        if _drawn(s) <= target or stop != STOP_TARGET:
             results.append(_snapshot(p, s, target, passes, time.perf_counter() - t_start, stop, names))
             level += 1
             if s.bound is not None and level < len(p.targets) and _loosen(s, p, level):
@@ -223,12 +231,46 @@ def run(p: Problem) -> list:
             continue
         passes += 1
         outcome = _one_pass(s, passes, target, p.options.seed, p.options.preserve_seams)
+        if s.max_error_seen >= s.drop_at:
+            _drop_smaller_than_error(s, target)
         if outcome == STOP_TOPOLOGY:
             outcome = _unstick(s, p, target)
         if outcome is not None:
             stop = outcome
-        heartbeat.report((start_faces - len(s.F)) / max(start_faces - final_target, 1))
+        heartbeat.report((start_faces - _drawn(s)) / max(start_faces - final_target, 1))
     return results
+
+
+def _kept_parts(s: State) -> np.ndarray:
+    """(n,) bool: vertices whose part may not be removed (locked, or under a painted limit)."""
+    return s.locked if s.bound is None else s.locked | s.bound.limited
+
+
+def _drop_smaller_than_error(s: State, target: int) -> None:
+    """Parts smaller than the error the LOD already has leave it (Options.
+    remove_small_components, core.components.smaller_than): removed, they are no farther
+    from the LOD than its collapses already moved the surface, and their triangles go to
+    the rest. Only as many as the target still needs."""
+    faces, parts, smallest = components.smaller_than(s.F, s.V, _kept_parts(s), s.max_error_seen, _drawn(s) - target,
+                                                     None if s.copies is None else s.copies[s.F[:, 0]])
+    # (Parts the target did not need stay; asked again once the error has grown.)
+    s.drop_at = max(smallest, s.max_error_seen * DROP_RECHECK_GROWTH)
+    if faces is not None:
+        _drop_faces(s, ~faces)
+        s.removed_components += parts
+
+
+def _drawn(s: State):
+    """The faces left, as the targets count them: each as many times as its part is
+    drawn (Options.part_copies)."""
+    return len(s.F) if s.copies is None else int(round(float(s.copies[s.F[:, 0]].sum())))
+
+
+def _removed_by(s: State, conn, cand, chosen) -> np.ndarray:
+    """(k,) the faces each chosen collapse removes, as the targets count them."""
+    edges = cand.edge[chosen]
+    faces = conn.edge_faces[edges]
+    return faces if s.copies is None else faces * s.copies[conn.edges[edges, 0]]
 
 
 def _loosen(s: State, p: Problem, level: int) -> bool:
@@ -328,8 +370,8 @@ def _unstick(s: State, p: Problem, target: int):
     # A removed part is as far from the LOD as can be: not under max_error, nor where a
     # painted limit holds.
     if p.options.remove_small_components and (s.bound is None or not s.bound.global_bound):
-        keep = s.locked if s.bound is None else s.locked | s.bound.limited
-        dropped = components.smallest_to_drop(s.F, s.V, keep, len(s.F) - target)
+        dropped = components.smallest_to_drop(s.F, s.V, _kept_parts(s), _drawn(s) - target,
+                                              None if s.copies is None else s.copies[s.F[:, 0]])
         if dropped is not None:
             faces, parts = dropped
             _drop_faces(s, ~faces)
@@ -369,7 +411,8 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
     if not s.slivers.allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
         cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
-    share = min(max(0.5 * (len(s.F) - target) / len(s.F), COST_QUANTILE_MIN), COST_QUANTILE_MAX)
+    drawn = _drawn(s)
+    share = min(max(0.5 * (drawn - target) / drawn, COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     if s.slivers.stalled and s.bound is not None and not s.bound.global_bound:
         # A pass that took nothing under painted limits: every candidate may go, in
         # every round, or the passes crawl through the few cheapest around the last
@@ -377,12 +420,12 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         share = 1.0
     chosen = _choose(s, conn, cand, n, seed, pass_no, share)
     # Stop exactly at the target: only the cheapest collapses the target still needs.
-    need = len(s.F) - target
-    removed = conn.edge_faces[cand.edge[chosen]]
+    need = drawn - target
+    removed = _removed_by(s, conn, cand, chosen)
     if removed.sum() > need:
         order = np.argsort(cand.cost[chosen], kind="stable")
         chosen = chosen[order]
-        upto = int(np.searchsorted(np.cumsum(conn.edge_faces[cand.edge[chosen]]), need, side="left")) + 1
+        upto = int(np.searchsorted(np.cumsum(removed[order]), need, side="left")) + 1
         chosen = chosen[:upto]
     s.slivers.stalled = len(chosen) == 0
     if len(chosen):
@@ -649,7 +692,7 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         target_faces=target,
         passes=passes,
         seconds=seconds,
-        stop_reason=stop if len(s.F) > target else STOP_TARGET,
+        stop_reason=stop if _drawn(s) > target else STOP_TARGET,
         max_error=(s.bound.tracker.largest() if s.bound is not None and s.bound.global_bound
                    else s.max_error_seen) * p.scale,
         welded_vertices=p.welded,

@@ -49,6 +49,7 @@ def reorder(p):
         line_weights=p.line_weights[order],
         quadric_scale=None if p.quadric_scale is None else p.quadric_scale[order],
         locked=p.locked[order],
+        copies=None if p.copies is None else p.copies[order],
         vertex_limits=None if p.vertex_limits is None else p.vertex_limits[:, order],
         vertex_attributes={k: rows(a, order) for k, a in p.vertex_attributes.items()},
         corner_attributes={k: rows(a, face_order) for k, a in p.corner_attributes.items()},

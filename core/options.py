@@ -113,6 +113,14 @@ class Options:
         of the mesh's size) is inserted into that edge, so the two sides of a seam that an
         exporter tessellated apart share their edges. The faces this splits come back
         with the face_origin of the face they split.
+
+    Several parts in one run (an asset's meshes, core.assembly):
+      vertex_part: (n,) int >= 0, or None (one part): the part each vertex belongs to.
+        Vertices of different parts are never welded, so every output face lies in one
+        part and the result splits back into the parts.
+      part_copies: (parts,) int >= 1, or None (1 each): how many times each part is drawn
+        (a mesh instanced by several objects). Targets then count drawn triangles: a face
+        of part j counts part_copies[j] times, so one budget holds for the whole asset.
     """
 
     max_error: Union[float, Sequence[float], None] = None
@@ -142,6 +150,8 @@ class Options:
     pose_offsets: Any = None
     pose_weight: float = 1.0
     key_scale_exponent: float = 1.0
+    vertex_part: Any = None
+    part_copies: Any = None
 
     @classmethod
     def names(cls) -> tuple:

@@ -62,6 +62,7 @@ class Problem:
     unsplit_faces: object = None  # (run faces, 3) the face each run face was split from, or None
     connectivity: object = None  # topology.build of ``faces`` when prepare had it (engine.run reuses it)
     renumbered: bool = False  # vertices and faces in core.locality's order, not the input's
+    copies: object = None  # (n,) how many times each vertex's part is drawn (Options.part_copies), or None
 
 
 @dataclass
@@ -82,6 +83,8 @@ class Checked:
     feature_edges: np.ndarray
     feature_edge_weights: np.ndarray
     pose_attributes: tuple
+    vertex_part: object = None  # (n,) int64 Options.vertex_part, or None
+    copies: object = None  # (n,) Options.part_copies per vertex, or None
 
 
 def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, progress=None) -> Problem:
@@ -91,7 +94,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
     c = checked(vertices, faces, targets, Options() if o is None else o, progress)
     center, scale = _frame(c.vertices)
     vn = (c.vertices - center) / scale
-    rep, keep, twin = _cleaned(vn, c.faces, c.options.weld_distance, scale)
+    rep, keep, twin = _cleaned(vn, c.faces, c.options.weld_distance, scale, c.vertex_part)
     n, m = len(vn), len(c.faces)
     welded = int(np.count_nonzero(rep != np.arange(n)))
     locked, line_weights, quadric_scale = c.locked, c.line_weights, c.quadric_scale
@@ -128,6 +131,7 @@ def validate_and_prepare(vertices, faces, targets, o: Optional[Options] = None, 
         input_faces=m,
         welded=welded,
         run_faces=m,
+        copies=c.copies,
     ))
     return repair.repaired(problem, twin, stitch=bool(c.options.stitch_cracks))
 
@@ -138,7 +142,9 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
     n = len(v)
     f = checks.as_faces(faces, n)
     m = len(f)
-    tgt = checks.targets(targets, m)
+    vertex_part, copies = checks.parts(o.vertex_part, o.part_copies, n)
+    drawn = None if copies is None else int(round(float(copies[f[:, 0]].sum()))) if m else 0
+    tgt = checks.targets(targets, m, drawn)
     max_error = None if o.max_error is None else checks.max_errors(o.max_error, len(tgt))
     vertex_limits = None if o.vertex_max_error is None else checks.limits(o.vertex_max_error, n, len(tgt),
                                                                            "vertex_max_error")
@@ -216,7 +222,8 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
         remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
         uv_attributes=tuple(o.uv_attributes or ()), shape_attributes=tuple(o.shape_attributes or ()),
         weld_distance=None if o.weld_distance is None else float(o.weld_distance))
-    return Checked(options, v, f, tgt, max_error, vertex_limits, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few, poses)
+    return Checked(options, v, f, tgt, max_error, vertex_limits, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few,
+                   poses, vertex_part, copies)
 
 
 def _frame(v: np.ndarray) -> tuple:
@@ -228,16 +235,19 @@ def _frame(v: np.ndarray) -> tuple:
     return 0.5 * (lo + hi), float(np.linalg.norm(hi - lo)) or 1.0
 
 
-def _cleaned(vn: np.ndarray, f: np.ndarray, weld_distance, scale: float) -> tuple:
+def _cleaned(vn: np.ndarray, f: np.ndarray, weld_distance, scale: float, vertex_part=None) -> tuple:
     """(rep, keep, twin): each vertex's weld representative (n,), the faces kept (m,)
     bool, and each face's first copy wound the other way or -1 (m,) (None without faces).
 
     Coincident vertices (exported assets) are welded; then faces that became degenerate,
     repeat another face or have zero area are dropped: they cannot be simplified and would
-    break the manifold checks."""
+    break the manifold checks. ``vertex_part``: (n,) labels, or None; vertices of
+    different parts are not welded (the parts of an asset touch, and come back apart)."""
     n, m = len(vn), len(f)
     distance = None if weld_distance is None else (weld_distance / scale if weld_distance > 0 else weld_distance)
     rep = weld_map(vn, distance)
+    if vertex_part is not None:
+        rep = _within_parts(rep, vertex_part)
     if m == 0:
         return rep, np.zeros(0, dtype=bool), None
     fw = rep[f]
@@ -250,6 +260,15 @@ def _cleaned(vn: np.ndarray, f: np.ndarray, weld_distance, scale: float) -> tupl
     # junction is an open slit, which core.stitching closes.
     keep[keep] &= triangle_quality(vn, fw[keep]) >= ZERO_AREA_QUALITY
     return rep, keep, twin
+
+
+def _within_parts(rep: np.ndarray, part: np.ndarray) -> np.ndarray:
+    """A weld map (n,) split by part: each vertex goes to the first vertex of its weld
+    group that lies in its own part."""
+    n = len(rep)
+    key = rep * np.int64(int(part.max()) + 1) + part  # < n * parts: fits int64
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    return first[inverse.reshape(-1)]
 
 
 def _first_copies(faces: np.ndarray, n: int) -> tuple:
