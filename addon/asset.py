@@ -66,6 +66,12 @@ def matrix_scale(matrix: np.ndarray) -> float:
     return float(np.linalg.norm(matrix[:3, :3], axis=0).max())
 
 
+def matrix_scale_max(matrices: list) -> float:
+    """The largest matrix_scale of the world matrices a part is drawn with: its size in
+    the asset (conservative for a mesh instanced at several sizes)."""
+    return max(matrix_scale(m) for m in matrices)
+
+
 def world_scale(ob) -> float:
     """The largest axis scale of ``ob``'s world matrix, as Blender computes it (the
     switch numbers of a single object have always used this)."""
@@ -119,7 +125,7 @@ def key_importance(inputs: list, matrices: list) -> None:
     mesh, a part the keys barely move (teeth a smile shifts a millimetre) would get as
     much importance as the face they shape, and the budget split would spend triangles on
     it; over the asset it gets what its motion is worth."""
-    keyed = [(i, max(matrix_scale(m) for m in placed)) for i, placed in zip(inputs, matrices)
+    keyed = [(i, matrix_scale_max(placed)) for i, placed in zip(inputs, matrices)
              if i.settings.importance_source == 'SHAPE_KEYS' and i.data.shape_keys]
     if len(keyed) < 2:
         return  # one keyed part: its own reference is the asset's
@@ -160,7 +166,7 @@ def split_budget(inputs: list, matrices: list, totals: list,
 
         counts, errors = core.budget.error_curve(i.data.vertices, i.data.faces, i.core_options,
                                                  floor=int(floor_ratio * m), progress=step)
-        scale = max(matrix_scale(matrix) for matrix in placed)
+        scale = matrix_scale_max(placed)
         curve = (counts, errors * scale)
         if i.settings.remove_small_components:
             # Gone, a part is as far from the LOD as its surface is from the rest: within

@@ -34,8 +34,11 @@ from __future__ import annotations
 import threading
 from typing import Callable, Optional, Sequence, Union
 
+import numpy as np
+
 from . import asset as asset_set
 from . import level_deviation
+from . import measure
 from . import lod
 from .settings import LodError
 
@@ -43,6 +46,28 @@ from .settings import LodError
 # Source Shape Keys over an asset: one reference for the keys' motion over all parts, in
 # scene units (asset.key_importance), rather than each mesh's own.
 ASSET_KEY_REFERENCE = True
+
+
+# An asset's chain by triangles is one core run over all its parts (core.assembly) where
+# the parts allow it (LodJob.together); False splits the budget by error curves and runs
+# each part alone (asset_set.split_budget), as before.
+ONE_RUN = True
+
+
+def _unchanged(before, after) -> bool:
+    """Whether a part's level is its level before, untouched by the asset's run since."""
+    return (len(before.faces) == len(after.faces) and np.array_equal(before.face_origin, after.face_origin)
+            and np.array_equal(before.faces, after.faces) and np.array_equal(before.vertices, after.vertices))
+
+
+def _set_area_shares(inputs: list, matrices: list) -> None:
+    """Each part's share of the area its asset draws (LodInput.area_share): its own area
+    in scene units through the largest scale it is drawn at, once per object drawing it."""
+    drawn = np.array([measure.mesh_area(i.data.vertices, i.data.faces) * asset_set.matrix_scale_max(placed) ** 2
+                      * len(placed) for i, placed in zip(inputs, matrices)])
+    total = float(drawn.sum())
+    for lod_input, area in zip(inputs, drawn):
+        lod_input.area_share = float(area / total) if total > 0 else 1.0 / len(inputs)
 
 
 class ObjectObserver:
@@ -119,6 +144,8 @@ class LodJob:
             self.objects.append(ob.name)
             self._group_of.append(group)
         self._check_shape_keys(objects, per_object)
+        if self.asset is not None:
+            _set_area_shares(self.inputs, self._matrices)
         if self.asset is not None and ASSET_KEY_REFERENCE:
             asset_set.key_importance(self.inputs, self._matrices)
         # The asset's triangle count per level (a chain by triangles), split in run().
@@ -166,8 +193,8 @@ class LodJob:
         if self._asset_targets is not None:
             if count > 1:
                 observer.splitting(count, self._asset_targets)
-            first = self._split_budget(progress) if count > 1 else 0.0
-            if count == 1:
+                first = self._run_together(progress) if self.together() else self._split_budget(progress)
+            else:
                 self.inputs[0].targets = list(self._asset_targets)
         for index, lod_input in enumerate(self.inputs):
             def step(fraction, index=index):
@@ -182,6 +209,67 @@ class LodJob:
             observer.finished(output)
             self.outputs.append(output)
         self.fraction = 1.0
+
+    # The asset's one core run (_run_together), against the parts' measuring afterwards.
+    TOGETHER_SHARE = 0.5
+
+    def together(self) -> bool:
+        """Whether the asset's parts are simplified in one core run (core.assembly): a chain
+        by triangles, with nothing that needs a run per part (painted limits, whose
+        distances are to the part's own surface; Source Armature, whose levels are
+        refitted and remade per part) and with the options one run has one of alike."""
+        if not ONE_RUN or self._asset_targets is None or len(self.inputs) < 2:
+            return False
+        if any(i.limit is not None or i.poses is not None or i.deviations is not None for i in self.inputs):
+            return False
+        first = self.inputs[0].core_options
+        return all(getattr(i.core_options, name) == getattr(first, name)
+                   for i in self.inputs for name in lod.core.assembly.SHARED)
+
+    def _run_together(self, progress) -> float:
+        """Simplify every part in one core run to the asset's targets (core.assembly: each
+        part in scene units through the largest scale it is drawn at, counted once per
+        object drawing it) and give each part its levels (LodInput.chain); returns the
+        share of the progress it took."""
+        assembly = lod.core.assembly
+
+        def step(fraction):
+            self.fraction = self.TOGETHER_SHARE * fraction
+            if progress is not None:
+                progress(self.fraction)
+            return not self._cancel.is_set()
+
+        parts = [assembly.Part(i.data.vertices, i.data.faces, i.core_options,
+                               asset_set.matrix_scale_max(placed), len(placed))
+                 for i, placed in zip(self.inputs, self._matrices)]
+        try:
+            vertices, faces, options, layout = assembly.combine(parts)
+            results = lod.core.simplify_chain(vertices, faces, self._asset_targets, options, progress=step)
+        except lod.core.SimplifyCancelled as ex:
+            raise lod.LodCancelled("cancelled") from ex
+        except ValueError as ex:
+            raise LodError(f"simplifying the asset's {len(parts)} meshes together: {ex}") from ex
+        per_level = [assembly.split(r, layout) for r in results]
+        for p, lod_input in enumerate(self.inputs):
+            chain = []
+            for level in per_level:
+                part = level[p]
+                if part is None:
+                    break
+                if chain and _unchanged(chain[-1], part):
+                    part = chain[-1]  # (one mesh, measured once: lod.compute repeats it)
+                chain.append(part)
+            counts = np.array([0 if level[p] is None else len(level[p].faces) for level in per_level])
+            lod_input.targets, note = asset_set.part_targets(counts, len(lod_input.data.faces))
+            lod_input.chain = chain
+            if note:
+                lod_input.warnings.append(note)
+        for k, r in enumerate(results, start=1):
+            if r.stats.stop_reason != lod.core.STOP_TARGET:
+                why = lod.core.STOP_REASON_TEXT.get(r.stats.stop_reason, r.stats.stop_reason)
+                self.inputs[0].warnings.append(
+                    f"the asset's LOD{k} stopped above its budget of {self._asset_targets[k - 1]} triangles: {why}")
+        return self.TOGETHER_SHARE
 
     # The split runs the core once per part down its error curve: about as long as
     # simplifying the parts to their shares afterwards, which also measures.

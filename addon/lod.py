@@ -106,6 +106,12 @@ class LodInput:
     # the limit L in the object's units, or per level a tuple of them (pixels: set by
     # compute), their size in scene units), or None.
     limit: Optional[tuple] = None
+    # A part of an asset simplified with the others in one core run (LodJob, core.assembly):
+    # its levels, as that run left them (compute measures and writes them), or None.
+    chain: Optional[list] = None
+    # A part of an asset: its share of the area the asset draws, which sets how densely its
+    # levels are measured (deviation_search.report_samples), or None.
+    area_share: Optional[float] = None
 
 
 @dataclass
@@ -614,6 +620,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
                                   f"kept whole at every level")
     elif lod_input.in_asset and not lod_input.targets:
         results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
+    elif lod_input.chain is not None:  # simplified with the rest of its asset (LodJob)
+        results, requested, measured = list(lod_input.chain), [None] * len(lod_input.chain), {}
     elif lod_input.deviations is not None:
         results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
                                                                      simplify_share, _simplify)
@@ -657,7 +665,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry["requested_deviation"] = requested[k - 1]
             entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
         if measuring or requested[k - 1] is not None:
-            rep = _level_report(data, levels[-1], measured.get(id(result)))
+            rep = _level_report(data, levels[-1], measured.get(id(result)), lod_input.area_share)
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
             # Per material and painted region, and the heat map when asked for.
             levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
@@ -706,7 +714,7 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
             level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
             built[id(result)] = (result, level)
             normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
-            rep = deviation_search.deviation_report(data, level, normals)  # (as _level_report measures)
+            rep = deviation_search.deviation_report(data, level, normals, lod_input.area_share)  # (as _level_report)
             measured[id(result)] = rep
             kept = limits.level_report(data, rep["sampled"], column, per_level[k],
                                        lod_input.reference_diagonal or rep["diagonal"])
@@ -737,7 +745,8 @@ def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
                     vertex_max_error=np.stack([limits.vertex_limits(weights, v) for v in per_level]))
 
 
-def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict]) -> dict:
+def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict],
+                  area_share: Optional[float] = None) -> dict:
     """The report's measurement of ``level`` against the source ``data``: mesh_report at
     report_samples, with the shading-normal deviation from the same closest points
     (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
@@ -745,11 +754,11 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     deviation on its own (the search measured before the LOD's normals existed)."""
     normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
     if measured is None:
-        return deviation_search.deviation_report(data, level, normals)
+        return deviation_search.deviation_report(data, level, normals, area_share)
     if normals is None or "normal_mean_degrees" in measured:
         return measured
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
-                                      n_samples=report_samples(len(data.faces)))
+                                      n_samples=report_samples(len(data.faces), area_share))
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 

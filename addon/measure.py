@@ -131,6 +131,11 @@ def _triangle_areas(v: np.ndarray, f: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - p0, v[f[:, 2]] - p0), axis=1)
 
 
+def mesh_area(vertices, faces) -> float:
+    """The surface area of a triangle mesh (vertices (n, 3), faces (m, 3)), in its units squared."""
+    return float(_triangle_areas(np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)).sum())
+
+
 def sample_surface(vertices, faces, n: int, rng: np.random.Generator) -> np.ndarray:
     """``n`` points distributed uniformly by area over the triangles, (n, 3) float64."""
     return _sample_surface(vertices, faces, n, rng)[0]

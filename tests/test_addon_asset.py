@@ -16,6 +16,22 @@ def res(tmp_path_factory):
     return run_scenario("addon_asset", {}, user_dir=work / "user", install=False, timeout=600)
 
 
+def test_an_asset_is_simplified_in_one_run_and_as_close_as_split_by_curves(res):
+    """The default asset run is one core run (core.assembly); the split by error curves,
+    which painted limits and Source Armature still take, gives the same kind of LOD set:
+    both meet the budget, and the one run is as close to the source at every level."""
+    one, split = res["asset"], res["asset_split"]
+    assert one["together"] and not split["together"]
+    for k, (a, b) in enumerate(zip(one["asset"]["levels"], split["asset"]["levels"])):
+        assert abs(a["triangles"] - b["triangles"]) <= max(4, 0.01 * b["triangles"]), k
+        assert a["hausdorff"] <= 1.25 * b["hausdorff"], (k, a["hausdorff"], b["hausdorff"])
+    # Both ways, the dense bolt gives up more than the hull, and small parts leave far levels.
+    for run in (one, split):
+        share = {n: run["lods"][n][0]["triangles"] / run["source_triangles"][n] for n in ("Hull", "Bolt")}
+        assert share["Bolt"] < 0.5 * share["Hull"], share
+    assert len(res["far_split"]["lods"]["Bolt"]) < 3
+
+
 def test_a_small_part_does_not_fail_its_asset(res):
     run = res["asset"]
     assert "error" not in run, run.get("error")

@@ -68,9 +68,9 @@ class ProgressLines(ObjectObserver):
         self.estimate = TimeLeft(inputs, later)
 
     def splitting(self, parts: int, targets: list) -> None:
-        self.console.progress(f"[{self.label}] one asset of {parts} meshes: splitting its budget ("
+        self.console.progress(f"[{self.label}] one asset of {parts} meshes: its budget ("
                               + ", ".join(f"LOD{k} {t:,}" for k, t in enumerate(targets, start=1))
-                              + " triangles) over them by error")
+                              + " triangles) goes to them by error")
 
     def started(self, lod_input) -> None:
         self.input = lod_input

@@ -46,6 +46,7 @@ def run_job(**settings) -> dict:
     out = {"names": names, "source_triangles": source_triangles}
     try:
         job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(**settings))
+        out["together"] = job.together()
         fractions = []
         job.run(progress=fractions.append)
         reports = job.commit(bpy.context)
@@ -74,9 +75,21 @@ def run_job(**settings) -> dict:
     return out
 
 
+def split_by_curves(**settings) -> dict:
+    """run_job with the budget split by each part's error curve, each part run alone (the
+    way painted limits and Source Armature take)."""
+    job_mod.ONE_RUN = False
+    try:
+        return run_job(**settings)
+    finally:
+        job_mod.ONE_RUN = True
+
+
 def run() -> dict:
     return {
         "asset": run_job(ratios=(0.5, 0.25, 0.125)),
+        "asset_split": split_by_curves(ratios=(0.5, 0.25, 0.125)),
+        "far_split": split_by_curves(ratios=(0.5, 0.05, 0.015), measure_deviation=False),
         "asset_unmeasured": run_job(ratios=(0.5, 0.25, 0.125), measure_deviation=False),
         "per_part": run_job(ratios=(0.5, 0.25, 0.125), asset_budget=False),
         "deviation": run_job(max_deviations=((1.0, True), (4.0, True))),
