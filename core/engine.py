@@ -66,6 +66,16 @@ ORDER_FREE_COST = 1e-9
 # the planes of the faces around, which reach past their triangles: on a low-poly robot it
 # ran at twice the measured Hausdorff distance, and at 1 its shoulders left at LOD1.
 DROP_SIZE_SHARE = 0.5
+# The rules relax a step (as when nothing passes them at all) once CRAWL_PASSES passes in a
+# row each took less than CRAWL_SHARE of the faces the target still needs: where seams
+# and hard edges hold most collapses back (a CAD engine's 67 parts in one run), the strict
+# steps let a handful through a pass, and the passes crawled: 400 of 451 for the last
+# third of the engine's LOD3, 3 s, before the step that let it through anyway.
+CRAWL_SHARE = 0.005
+CRAWL_PASSES = 5
+# ... as long as the target still needs this many faces: a small mesh's last passes take a
+# collapse or two by nature (and are cheap), and its rules relax when nothing passes.
+CRAWL_MIN_NEED = 1_000
 # Parts the target did not need are looked at again once the error has grown by this factor.
 DROP_RECHECK_GROWTH = 1.25
 
@@ -143,6 +153,7 @@ class State:
     removed_components: int = 0
     copies: object = None  # (n,) how many times each vertex's part is drawn (Problem.copies), or None
     drop_at: float = np.inf  # the error (normalised) at which the smallest part that may go is smaller
+    crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
@@ -235,7 +246,10 @@ def run(p: Problem) -> list:
                     stop = STOP_TARGET
             continue
         passes += 1
+        before = _drawn(s)
         outcome = _one_pass(s, passes, target, p.options.seed, p.options.preserve_seams)
+        if outcome is None and _crawling(s, before - _drawn(s), before - target):
+            _relax(s)
         if outcome == STOP_TOPOLOGY:
             outcome = _unstick(s, p, target)
         if outcome is not None:
@@ -374,15 +388,32 @@ def _shape_keys(s: State, p: Problem, names, X, area):
     )
 
 
+def _crawling(s: State, removed: int, needed: int) -> bool:
+    """Whether the passes have been crawling: CRAWL_PASSES in a row, each taking less than
+    CRAWL_SHARE of what the target still needs (at least CRAWL_MIN_NEED), while a looser
+    step of the rules is left."""
+    if s.guards.step + 1 >= len(s.ladder) or needed < CRAWL_MIN_NEED or removed >= CRAWL_SHARE * needed:
+        s.crawl = 0
+        return False
+    s.crawl += 1
+    return s.crawl >= CRAWL_PASSES
+
+
+def _relax(s: State) -> None:
+    """The quality rules one step looser (core.guards.relaxation_ladder); edges the stricter
+    step rejected get a new chance."""
+    s.guards = s.ladder[s.guards.step + 1]
+    s.crawl = 0
+    _forget_rejections(s, keep_limits=True)
+
+
 def _unstick(s: State, p: Problem, target: int):
     """Nothing passes the rules in force: relax the quality rules one step, or (when the
     artist allows it and every rule is already relaxed) drop the smallest parts the
     target cannot keep. Returns None to go on, or STOP_TOPOLOGY."""
     if s.guards.step + 1 < len(s.ladder):
-        s.guards = s.ladder[s.guards.step + 1]
-        # Edges rejected under the stricter rules get a new chance; the cost cache of a
-        # pass that found no candidate has nothing to reuse.
-        _forget_rejections(s, keep_limits=True)
+        # (The cost cache of a pass that found no candidate has nothing to reuse.)
+        _relax(s)
         return None
     # A removed part is as far from the LOD as can be: not under max_error, nor where a
     # painted limit holds.
