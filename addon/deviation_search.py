@@ -33,30 +33,34 @@ DEVIATION_SAMPLES_MIN = 8_000
 
 
 # A part of an asset is sampled as much as its share of the asset's area would be if the
-# asset were measured as one surface of DEVIATION_SAMPLES, with at least this many (and
-# never more than report_samples gives a mesh of its size): an engine's hundred bolts
-# each paid 8,000 samples a side a level, seven times what the block they sit on got per
-# unit of area, and measuring took three times the simplification.
+# asset were measured as one surface (report_samples of all it draws), with at least this
+# many (and never more than report_samples gives a mesh of its size): an engine's hundred
+# bolts each paid 8,000 samples a side a level, seven times what the block they sit on got
+# per unit of area, and measuring took three times the simplification.
 ASSET_PART_SAMPLES_MIN = 1_000
 
 
-def report_samples(triangles: int, area_share: Optional[float] = None) -> int:
+def report_samples(triangles: int, part_samples: Optional[int] = None) -> int:
     """Area samples the report measures a surface of ``triangles`` triangles with;
-    ``area_share``: for a part of an asset, its share of the asset's area (0 to 1)."""
+    ``part_samples``: for a part of an asset, what part_samples gave it."""
     own = int(min(DEVIATION_SAMPLES, max(DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE * triangles)))
-    if area_share is None:
-        return own
-    return int(min(own, max(ASSET_PART_SAMPLES_MIN, np.ceil(DEVIATION_SAMPLES * area_share))))
+    return own if part_samples is None else min(own, int(part_samples))
 
 
-def deviation_report(data, level, normals=None, area_share: Optional[float] = None) -> dict:
+def part_samples(area_share: float, asset_triangles: int) -> int:
+    """The area samples a side of a part of an asset: its share of the asset's area (0 to
+    1) of what the asset would get as one surface of ``asset_triangles`` triangles."""
+    return int(max(ASSET_PART_SAMPLES_MIN, np.ceil(report_samples(asset_triangles) * area_share)))
+
+
+def deviation_report(data, level, normals=None, part_samples: Optional[int] = None) -> dict:
     """measure.mesh_report of ``level`` against the source, as the report measures it
     (``normals``: (source's, level's) corner normals, for the shading deviation too), with
     its points kept (``sampled``: the report's breakdown per material and region and the
     heat map use them, addon/level_deviation.py)."""
     return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
-                               n_samples=(report_samples(len(data.faces), area_share),
-                                          report_samples(len(level.faces), area_share)),
+                               n_samples=(report_samples(len(data.faces), part_samples),
+                                          report_samples(len(level.faces), part_samples)),
                                normals=normals, keep_samples=True)
 
 

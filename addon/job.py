@@ -37,6 +37,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import asset as asset_set
+from . import deviation_search
 from . import level_deviation
 from . import measure
 from . import lod
@@ -60,14 +61,17 @@ def _unchanged(before, after) -> bool:
             and np.array_equal(before.faces, after.faces) and np.array_equal(before.vertices, after.vertices))
 
 
-def _set_area_shares(inputs: list, matrices: list) -> None:
-    """Each part's share of the area its asset draws (LodInput.area_share): its own area
-    in scene units through the largest scale it is drawn at, once per object drawing it."""
+def _set_part_samples(inputs: list, matrices: list) -> None:
+    """How densely each part of an asset is measured (LodInput.part_samples): its share of
+    the area the asset draws (in scene units through the largest scale it is drawn at,
+    once per object drawing it) of what the asset would get as one surface."""
     drawn = np.array([measure.mesh_area(i.data.vertices, i.data.faces) * asset_set.matrix_scale_max(placed) ** 2
                       * len(placed) for i, placed in zip(inputs, matrices)])
     total = float(drawn.sum())
+    triangles = sum(len(i.data.faces) * len(placed) for i, placed in zip(inputs, matrices))
     for lod_input, area in zip(inputs, drawn):
-        lod_input.area_share = float(area / total) if total > 0 else 1.0 / len(inputs)
+        share = float(area / total) if total > 0 else 1.0 / len(inputs)
+        lod_input.part_samples = deviation_search.part_samples(share, triangles)
 
 
 class ObjectObserver:
@@ -145,7 +149,7 @@ class LodJob:
             self._group_of.append(group)
         self._check_shape_keys(objects, per_object)
         if self.asset is not None:
-            _set_area_shares(self.inputs, self._matrices)
+            _set_part_samples(self.inputs, self._matrices)
         if self.asset is not None and ASSET_KEY_REFERENCE:
             asset_set.key_importance(self.inputs, self._matrices)
         # The asset's triangle count per level (a chain by triangles), split in run().

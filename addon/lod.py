@@ -109,9 +109,9 @@ class LodInput:
     # A part of an asset simplified with the others in one core run (LodJob, core.assembly):
     # its levels, as that run left them (compute measures and writes them), or None.
     chain: Optional[list] = None
-    # A part of an asset: its share of the area the asset draws, which sets how densely its
-    # levels are measured (deviation_search.report_samples), or None.
-    area_share: Optional[float] = None
+    # A part of an asset: the area samples a side its levels are measured with (its share
+    # of the asset's, deviation_search.part_samples), or None: its own size's.
+    part_samples: Optional[int] = None
 
 
 @dataclass
@@ -665,7 +665,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry["requested_deviation"] = requested[k - 1]
             entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
         if measuring or requested[k - 1] is not None:
-            rep = _level_report(data, levels[-1], measured.get(id(result)), lod_input.area_share)
+            rep = _level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
             # Per material and painted region, and the heat map when asked for.
             levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
@@ -714,7 +714,7 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
             level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
             built[id(result)] = (result, level)
             normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
-            rep = deviation_search.deviation_report(data, level, normals, lod_input.area_share)  # (as _level_report)
+            rep = deviation_search.deviation_report(data, level, normals, lod_input.part_samples)  # (as _level_report)
             measured[id(result)] = rep
             kept = limits.level_report(data, rep["sampled"], column, per_level[k],
                                        lod_input.reference_diagonal or rep["diagonal"])
@@ -746,7 +746,7 @@ def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
 
 
 def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict],
-                  area_share: Optional[float] = None) -> dict:
+                  part_samples: Optional[int] = None) -> dict:
     """The report's measurement of ``level`` against the source ``data``: mesh_report at
     report_samples, with the shading-normal deviation from the same closest points
     (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
@@ -754,11 +754,11 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     deviation on its own (the search measured before the LOD's normals existed)."""
     normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
     if measured is None:
-        return deviation_search.deviation_report(data, level, normals, area_share)
+        return deviation_search.deviation_report(data, level, normals, part_samples)
     if normals is None or "normal_mean_degrees" in measured:
         return measured
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
-                                      n_samples=report_samples(len(data.faces), area_share))
+                                      n_samples=report_samples(len(data.faces), part_samples))
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
 
 
@@ -976,7 +976,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
                 _replace_lod(old)
     asset_switch = switch
     reports = []
-    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal)
+    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal, area share)
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _lod_collection(scene, source)
@@ -1029,13 +1029,14 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
         if leader is not None:
             rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
         elif out.input.settings.measuring() and armature_of(source) is not None:
-            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces)))
+            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces),
+                          out.input.part_samples))
         reports.append(rep)
     if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
         try:
             posed_deviation.measure_chains(scene, lambda: _scene_and_depsgraph(context_or_scene)[1], posed)
         except Exception as ex:  # the LODs are made: a failed extra measurement is a note
-            for source, _, _, _ in posed:
+            for source, *_ in posed:
                 next(r for r in reports if r["object"] == source.name)["warnings"].append(
                     f"the posed distance was not measured ({type(ex).__name__}: {ex})")
     return reports

@@ -20,6 +20,7 @@ LOD objects are linked).
 from __future__ import annotations
 
 import contextlib
+from typing import Optional
 
 import numpy as np
 
@@ -34,9 +35,12 @@ _POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3
 _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_axis_angle", "scale")
 
 
-def posed_samples(triangles: int) -> int:
+def posed_samples(triangles: int, part_samples: Optional[int] = None) -> int:
     """Area samples per surface and frame: a quarter of the report's (2,000 to 12,500), as
-    every LOD is measured once per frame; the vertices are queried on top."""
+    every LOD is measured once per frame; the vertices are queried on top. A part of an
+    asset (``part_samples``: what its report gets) a quarter of its report's, at least 250."""
+    if part_samples is not None:
+        return max(250, report_samples(triangles, part_samples) // 4)
     return max(2_000, report_samples(triangles) // 4)
 
 
@@ -129,7 +133,7 @@ def measure_chains(scene, depsgraph_of, chains: list) -> None:
     """Give each level entry of the skinned ``chains`` its ``posed`` entry.
 
     chains: [(source object, its LOD objects, their report entries, the source's
-    bounding-box diagonal at rest)]; a chain whose source no armature deforms is left
+    bounding-box diagonal at rest, its LodInput.part_samples)]; a chain whose source no armature deforms is left
     out. ``depsgraph_of()``: the scene's evaluated depsgraph, current."""
     from .lod import armature_of
 
@@ -141,13 +145,13 @@ def measure_chains(scene, depsgraph_of, chains: list) -> None:
     for arm, group in by_armature.values():
         actions = actions_of(arm)
         if not actions:
-            for _, _, entries, _ in group:
+            for _, _, entries, _, _ in group:
                 for entry in entries:
                     entry["posed"] = {"actions": [], "frames": 0,
                                       "note": f'the armature "{arm.name}" has no actions: nothing to pose it with'}
             continue
         if arm.animation_data.use_tweak_mode:
-            for _, _, entries, _ in group:
+            for _, _, entries, _, _ in group:
                 for entry in entries:
                     entry["posed"] = {"actions": [], "frames": 0,
                                       "note": f'the armature "{arm.name}" is in NLA tweak mode: not posed'}
@@ -158,7 +162,7 @@ def measure_chains(scene, depsgraph_of, chains: list) -> None:
 def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
     played = actions[:MAX_FRAMES]
     count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, MAX_FRAMES)
-    per_level = {id(entry): [] for _, _, entries, _ in group for entry in entries}
+    per_level = {id(entry): [] for _, _, entries, _, _ in group for entry in entries}
     frames_of = []
     with _animation_kept(scene, arm, depsgraph_of):
         for action, slot in played:
@@ -170,19 +174,19 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
                 scene.frame_set(frame)
                 depsgraph = depsgraph_of()
                 depsgraph.update()
-                for source, lods, entries, diagonal in group:
+                for source, lods, entries, diagonal, share in group:
                     src = evaluated_triangles(source, depsgraph)
                     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
                     for lod_ob, entry in zip(lods, entries):
                         lod = evaluated_triangles(lod_ob, depsgraph)
                         if len(src[1]) == 0 or len(lod[1]) == 0:
                             continue
-                        rep = measure.surface_deviation(*src, *lod, n_samples=(posed_samples(len(src[1])),
-                                                                                   posed_samples(len(lod[1]))))
+                        rep = measure.surface_deviation(*src, *lod, n_samples=(posed_samples(len(src[1]), share),
+                                                                                   posed_samples(len(lod[1]), share)))
                         per_level[id(entry)].append((action.name, frame, rep["hausdorff"] * scale,
                                                      rep["mean"] * scale))
     skipped = len(actions) - len(played)
-    for _, _, entries, _ in group:
+    for _, _, entries, _, _ in group:
         for entry in entries:
             rows = per_level[id(entry)]
             posed = {"armature": arm.name, "actions": frames_of, "frames": len(rows),
