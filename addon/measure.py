@@ -57,9 +57,13 @@ import numpy as np
 
 DEFAULT_SAMPLES = 500_000  # area-uniform samples per surface (vertices come on top)
 
-# The pilot that sets the search radius: this many unbounded queries at most, and the
-# radius is this multiple of the pilot's high quantile. Both only affect speed.
+# The pilot that sets the search radius: this many unbounded queries at most (and one
+# query in _PILOT_SHARE, at least _PILOT_MIN), and the radius is this multiple of the
+# pilot's high quantile. All only affect speed. (A pilot of 2,000 whatever the count was
+# 38 % of the queries measuring an engine's 29 small parts: most calls are a few thousand.)
 _PILOT_POINTS = 2000
+_PILOT_SHARE = 20
+_PILOT_MIN = 100
 _PILOT_QUANTILE = 0.99
 _RADIUS_FACTOR = 2.0
 
@@ -176,7 +180,8 @@ def _distances(tree, points: np.ndarray, with_faces: bool = False):
     # Tuples parse faster than lists in mathutils' vector argument conversion.
     pts = list(map(tuple, points.tolist()))
     find = tree.find_nearest
-    pilot_idx = np.linspace(0, len(pts) - 1, min(_PILOT_POINTS, len(pts))).astype(np.int64)
+    pilot_count = min(_PILOT_POINTS, len(pts), max(_PILOT_MIN, len(pts) // _PILOT_SHARE))
+    pilot_idx = np.linspace(0, len(pts) - 1, pilot_count).astype(np.int64)
     pilot = np.array([find(pts[i])[3] for i in pilot_idx.tolist()], dtype=np.float64)
     radius = float(np.quantile(pilot, _PILOT_QUANTILE)) * _RADIUS_FACTOR
     # A floor keeps the radius positive when the surfaces coincide (all pilot distances 0).
