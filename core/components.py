@@ -65,12 +65,12 @@ def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray
 
 
 def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, size: float, need: float,
-                 face_weight=None) -> tuple:
+                 face_weight=None, at_least_one: bool = False) -> tuple:
     """(faces to delete (m,) bool or None, how many parts, the size of the smallest part
     that may still go (inf: none)): the parts whose bounding-box diagonal is below
     ``size``, smallest first, no more than it takes to remove ``need`` faces (counted
-    with ``face_weight`` (m,), default 1). Never the largest part (by area) nor one with
-    a locked vertex."""
+    with ``face_weight`` (m,), default 1), or the smallest alone when that is more and
+    ``at_least_one``. Never the largest part (by area) nor one with a locked vertex."""
     n = len(vertices)
     if len(faces) == 0:
         return None, 0, np.inf
@@ -94,6 +94,8 @@ def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, si
     spare = spare[np.argsort(diagonal[spare], kind="stable")]
     part_faces = np.bincount(part_of_face, weights=face_weight, minlength=len(parts))
     upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="right")) if need > 0 else 0
+    if at_least_one and need > 0:
+        upto = max(upto, min(1, len(spare)))
     drop = np.zeros(len(parts), dtype=bool)
     drop[spare[:upto]] = True
     rest = diagonal[may_go & ~drop]

@@ -61,17 +61,24 @@ LATER_ROUND_SHARE = 0.25
 # took before. At 1e-8 (0.01 %), beast's Hausdorff distance grew by a sixth: small
 # features hide below a small mean.
 ORDER_FREE_COST = 1e-9
-# A part leaves the LOD once its bounding-box diagonal is below this share of the largest
-# RMS distance of a collapse (_drop_smaller_than, before the collapse). The quadric distance is to
-# the planes of the faces around, which reach past their triangles: on a low-poly robot it
-# ran at twice the measured Hausdorff distance, and at 1 its shoulders left at LOD1.
-DROP_SIZE_SHARE = 0.5
+# A part leaves the LOD before a collapse whose RMS distance to the surface's planes is
+# more than its bounding-box diagonal times this (_drop_smaller_than): removed, the part is
+# at most about its size from the rest. The quadric distance is a mean, and on a smooth
+# hull ran at half the measured Hausdorff distance; on a low-poly robot at twice it, where
+# (checked after each pass, before the crawl relaxation) its shoulders left at LOD1. Since
+# the drop comes before the collapse and the rules relax when passes crawl, 1 keeps the
+# robot's, the engine's and the Kenney character's levels as close as 0.5 did.
+DROP_SIZE_SHARE = 1.0
 # The rules relax a step (as when nothing passes them at all) once CRAWL_PASSES passes in a
 # row each took less than CRAWL_SHARE of the faces the target still needs: where seams
 # and hard edges hold most collapses back (a CAD engine's 67 parts in one run), the strict
 # steps let a handful through a pass, and the passes crawled: 400 of 451 for the last
 # third of the engine's LOD3, 3 s, before the step that let it through anyway.
 CRAWL_SHARE = 0.005
+# In a run of several parts, a part with no candidate left relaxes the rules (one step) once
+# the collapses taken elsewhere cost this many times the most its own ever cost
+# (_part_held_back).
+PART_HELD_BACK = 2.0
 CRAWL_PASSES = 5
 # ... as long as the target still needs this many faces: a small mesh's last passes take a
 # collapse or two by nature (and are cheap), and its rules relax when nothing passes.
@@ -153,6 +160,8 @@ class State:
     removed_components: int = 0
     copies: object = None  # (n,) how many times each vertex's part is drawn (Problem.copies), or None
     drop_at: float = np.inf  # the error (normalised) at which the smallest part that may go is smaller
+    part: object = None  # (n,) the part of each vertex when several share the run (Options.vertex_part)
+    part_cost: object = None  # (parts,) the largest RMS cost of a collapse taken in each part so far
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
@@ -199,6 +208,9 @@ def run(p: Problem) -> list:
     s.guards = s.ladder[0]
     s.heartbeat = heartbeat
     s.copies = p.copies
+    if p.options.vertex_part is not None:  # several parts in one run (core.assembly)
+        s.part = np.asarray(p.options.vertex_part, dtype=np.int64)[p.vertex_origin]
+        s.part_cost = np.zeros(int(s.part.max(initial=-1)) + 1)
     # (Limits only grow along a chain: the first level's limited vertices are all there are.)
     limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits[0])
     if not limited.any():
@@ -258,15 +270,14 @@ def run(p: Problem) -> list:
     return results
 
 
-def _surface_error(s: State, cand, chosen) -> float:
-    """The largest RMS distance of the ``chosen`` collapses to the planes of the surface
-    at rest: their cost without the shape keys' and poses' error, which would make a
-    part that only moves in a key look farther from the LOD than its surface is.
-    (Normalised units.)"""
+def _surface_errors(s: State, cand, chosen) -> np.ndarray:
+    """(len(chosen),) the RMS distance (normalised) of each of the ``chosen`` collapses to
+    the planes of the surface at rest: their cost without the shape keys' and poses'
+    error, which would make a part that only moves in a key look farther than it is."""
     keep, remove = cand.keep[chosen], cand.remove[chosen]
     error = quadrics.evaluate(quadrics.pair_sums(s.Q, keep, remove), cand.position[chosen])
     error = error / np.maximum(s.area[keep] + s.area[remove], 1e-300)
-    return float(np.sqrt(max(float(error.max()), 0.0)))
+    return np.sqrt(np.maximum(error, 0.0))
 
 
 def _kept_parts(s: State) -> np.ndarray:
@@ -274,14 +285,15 @@ def _kept_parts(s: State) -> np.ndarray:
     return s.locked if s.bound is None else s.locked | s.bound.limited
 
 
-def _drop_smaller_than(s: State, target: int, size: float) -> bool:
+def _drop_smaller_than(s: State, target: int, size: float, at_least_one: bool = False) -> bool:
     """Drop the parts whose bounding-box diagonal is below ``size`` (normalised), as many
     as the target still needs (Options.remove_small_components, core.components.
     smaller_than): removed, such a part is no farther from the LOD than the collapse it
     spares would move the surface, and its triangles go to the rest. Returns whether any
     went; parts the target did not need are asked again once the error has grown."""
     faces, parts, smallest = components.smaller_than(s.F, s.V, _kept_parts(s), size, _drawn(s) - target,
-                                                     None if s.copies is None else s.copies[s.F[:, 0]])
+                                                     None if s.copies is None else s.copies[s.F[:, 0]],
+                                                     at_least_one)
     if faces is None:
         s.drop_at = max(smallest, size * DROP_RECHECK_GROWTH)
         return False
@@ -388,6 +400,25 @@ def _shape_keys(s: State, p: Problem, names, X, area):
     )
 
 
+def _part_held_back(s: State, cand, chosen, rms) -> bool:
+    """Several parts in one run: whether a part that has no candidate left under the rules
+    in force (the rest of the run goes on) would, alone, have had its rules relaxed by now:
+    this pass's collapses cost more than PART_HELD_BACK times the most its own collapses
+    ever cost. One run relaxes its rules only once no part has a candidate; run alone, a
+    part relaxes as soon as it has none. Without this, the parts that still had valid but
+    costly collapses paid for the held-back ones (a six-part character's torso went from
+    31 to 10 triangles while its arms, waiting for the loosest step, kept 28). Also
+    records what each part's collapses cost."""
+    taken = cand.keep[chosen]
+    np.maximum.at(s.part_cost, s.part[taken], rms[chosen])
+    if s.guards.step + 1 >= len(s.ladder):
+        return False
+    parts = len(s.part_cost)
+    alive = np.bincount(s.part[s.F[:, 0]], minlength=parts) > 0
+    waiting = alive & (np.bincount(s.part[cand.keep], minlength=parts) == 0) & (s.part_cost > 0)
+    return bool(np.any(waiting & (float(rms[chosen].max()) > PART_HELD_BACK * s.part_cost)))
+
+
 def _crawling(s: State, removed: int, needed: int) -> bool:
     """Whether the passes have been crawling: CRAWL_PASSES in a row, each taking less than
     CRAWL_SHARE of what the target still needs (at least CRAWL_MIN_NEED), while a looser
@@ -477,11 +508,18 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         chosen = chosen[:upto]
     s.slivers.stalled = len(chosen) == 0
     if len(chosen):
+        if s.part is not None and _part_held_back(s, cand, chosen, np.sqrt(mean_sq)):
+            _relax(s)
+            return None
         if s.drop_at < np.inf:
-            largest = _surface_error(s, cand, chosen)
+            errors = _surface_errors(s, cand, chosen)
+            largest = float(errors.max())
             # A part smaller than what this pass would cost goes first (when the target
             # needs it): its removal is the cheaper step; the pass is then chosen again.
-            if largest * DROP_SIZE_SHARE >= s.drop_at and _drop_smaller_than(s, target, largest * DROP_SIZE_SHARE):
+            # When even the pass's cheapest collapse costs more, the part goes even if
+            # the level ends under its budget by the part's triangles.
+            if largest * DROP_SIZE_SHARE >= s.drop_at and _drop_smaller_than(
+                    s, target, largest * DROP_SIZE_SHARE, float(errors.min()) * DROP_SIZE_SHARE >= s.drop_at):
                 return None
             s.surface_error = max(s.surface_error, largest)
         s.max_error_seen = max(s.max_error_seen, float(np.sqrt(mean_sq[chosen].max())))
