@@ -293,15 +293,9 @@ def measure_level(lod_input, level, report: dict, index: int = 0) -> tuple:
                             region_columns(list(data.group_names), skin, group), diagonal)
     if lod_input.limit is not None:
         from . import limits  # (it builds on this module's sampling helpers)
-        column, value, scene_scale = lod_input.limit
-        if isinstance(value, tuple):  # per level (pixels at each switch distance)
-            value = value[min(index, len(value) - 1)]
-        kept = limits.level_report(data, sampled, column, value, lod_input.reference_diagonal or diagonal,
-                                   scene_scale)
+        kept = limits.limit_entry(lod_input, report, index)
         if kept is not None:
-            entry["limit"] = dict(kept, group=settings.limit_group)
-            if settings.limit_unit == 'PIXELS':
-                entry["limit"]["limit_pixels"] = settings.limit_distance
+            entry["limit"] = kept
     if settings.deviation_colors:
         level = with_heat(level, sampled)
         scale = level.mesh_properties[SCALE_PROPERTY]

@@ -93,6 +93,24 @@ def vertex_limits(weights: np.ndarray, limit: float) -> np.ndarray:
     return out
 
 
+def limit_entry(lod_input, report: dict, index: int) -> Optional[dict]:
+    """The level report's ``limit`` entry of a level of ``lod_input`` (lod.LodInput, with a
+    painted limit) from its measurement ``report`` (kept samples), ``index``: the level's
+    place in the chain: level_report with the group's name (and the pixels asked for)."""
+    settings = lod_input.settings
+    column, value, scene_scale = lod_input.limit
+    if isinstance(value, tuple):  # per level (pixels at each switch distance)
+        value = value[min(index, len(value) - 1)]
+    kept = level_report(lod_input.data, report["sampled"], column, value,
+                        lod_input.reference_diagonal or float(report.get("diagonal") or 0.0), scene_scale)
+    if kept is None:
+        return None
+    kept = dict(kept, group=settings.limit_group)
+    if settings.limit_unit == 'PIXELS':
+        kept["limit_pixels"] = settings.limit_distance
+    return kept
+
+
 def level_report(source, sampled, column: int, limit: float, diagonal: float,
                  scene_scale: float = 1.0) -> Optional[dict]:
     """How the level keeps its painted limit, from the report's samples.

@@ -672,6 +672,12 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry.update(more)
         else:
             entry.update(core.quality_summary(result.vertices, result.faces))
+            if lod_input.limit is not None and id(result) in measured:
+                # Measuring off, but the chain was held to its painted limit as measured:
+                # how it kept the limit costs nothing more to report.
+                kept = limits.limit_entry(lod_input, measured[id(result)], k - 1)
+                if kept is not None:
+                    entry["limit"] = kept
         if measuring and data.shape_keys:
             # Each key's shape too: the LOD with the key at 1 against the source with it.
             entry["shape_keys"] = key_deviation.level_key_deviations(data, levels[-1])

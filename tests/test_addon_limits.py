@@ -25,6 +25,16 @@ def test_every_lod_keeps_the_painted_region_within_its_limit(res):
         assert 0.0 < kept["region_hausdorff_percent"] <= 2 * LIMIT_PERCENT
 
 
+def test_with_measuring_off_the_limit_is_still_held_and_reported(res):
+    """The chain under a limit is measured to hold it whatever Measure Deviation says; with
+    it off the report has no deviation, but says how each level kept its limit."""
+    for held, quiet in zip(res["held"]["levels"], res["unmeasured"]["levels"]):
+        assert "hausdorff_percent" not in quiet and "hausdorff_percent" in held
+        assert quiet["limit"]["within"] and quiet["limit"]["group"] == "Face"
+        assert quiet["triangles"] == held["triangles"]
+        assert quiet["limit"]["limit_used"] == pytest.approx(held["limit"]["limit_used"])
+
+
 def test_without_the_limit_the_region_moves_further(res):
     # (so the test above can fail): the same chain, no limit.
     beyond = [level["regions"]["Face"]["max_percent"] for level in res["free"]["levels"]]

@@ -96,12 +96,14 @@ def run() -> dict:
     held = lods(head, limit_group="Face", limit_distance=LIMIT_PERCENT)
     tight = lods(head, limit_group="Face", limit_distance=0.005)
     pixels = lods(head, limit_group="Face", limit_distance=0.25, limit_unit='PIXELS')
+    unmeasured = lods(head, limit_group="Face", limit_distance=LIMIT_PERCENT, measure_deviation=False)
     return {
         "input": {"triangles": len(head.data.polygons), "painted": int(np.count_nonzero(weight > 0))},
         "free": free,
         "held": held,
         "tight": tight,
         "pixels": pixels,
+        "unmeasured": unmeasured,
         "source_unchanged": bool(np.array_equal(before, array(head.data.vertices, "co", 3))),
         "errors": errors(head, plain),
         "paint": paint_limit(plain),
