@@ -642,9 +642,11 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     if lod_input.poses is not None:
         results = skin_fit.skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
                                           lambda: report_progress(simplify_share))
+    previous = None  # the last level's measurement (a repeated level is not measured again)
     for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
         report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        if k > 1 and result is results[k - 2]:  # a level repeated (an asset's part): one mesh
+        repeated = k > 1 and result is results[k - 2]
+        if repeated:  # a level repeated (an asset's part): one mesh
             levels.append(levels[-1])
         elif id(result) in built and built[id(result)][0] is result:  # (measured under a limit)
             levels.append(built[id(result)][1])
@@ -665,7 +667,9 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
             entry["requested_deviation"] = requested[k - 1]
             entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
         if measuring or requested[k - 1] is not None:
-            rep = _level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)
+            rep = previous if repeated and previous is not None else \
+                _level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)
+            previous = rep
             entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
             # Per material and painted region, and the heat map when asked for.
             levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
@@ -680,7 +684,8 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
                     entry["limit"] = kept
         if measuring and data.shape_keys:
             # Each key's shape too: the LOD with the key at 1 against the source with it.
-            entry["shape_keys"] = key_deviation.level_key_deviations(data, levels[-1])
+            entry["shape_keys"] = reports[-1]["shape_keys"] if repeated and "shape_keys" in reports[-1] \
+                else key_deviation.level_key_deviations(data, levels[-1])
         if lod_input.importance is not None:
             density = importance_density(lod_input.importance, result.vertex_origin,
                                          region_word(lod_input.settings.importance_source))

@@ -75,14 +75,14 @@ DROP_SIZE_SHARE = 1.0
 # steps let a handful through a pass, and the passes crawled: 400 of 451 for the last
 # third of the engine's LOD3, 3 s, before the step that let it through anyway.
 CRAWL_SHARE = 0.005
-# In a run of several parts, a part with no candidate left relaxes the rules (one step) once
-# the collapses taken elsewhere cost this many times the most its own ever cost
-# (_part_held_back).
-PART_HELD_BACK = 2.0
 CRAWL_PASSES = 5
 # ... as long as the target still needs this many faces: a small mesh's last passes take a
 # collapse or two by nature (and are cheap), and its rules relax when nothing passes.
 CRAWL_MIN_NEED = 1_000
+# In a run of several parts, a part with no candidate left relaxes the rules (one step) once
+# the collapses taken elsewhere cost this many times the most its own ever cost
+# (_part_held_back).
+PART_HELD_BACK = 2.0
 # Parts the target did not need are looked at again once the error has grown by this factor.
 DROP_RECHECK_GROWTH = 1.25
 
@@ -408,15 +408,15 @@ def _part_held_back(s: State, cand, chosen, rms) -> bool:
     part relaxes as soon as it has none. Without this, the parts that still had valid but
     costly collapses paid for the held-back ones (a six-part character's torso went from
     31 to 10 triangles while its arms, waiting for the loosest step, kept 28). Also
-    records what each part's collapses cost."""
-    taken = cand.keep[chosen]
-    np.maximum.at(s.part_cost, s.part[taken], rms[chosen])
-    if s.guards.step + 1 >= len(s.ladder):
-        return False
-    parts = len(s.part_cost)
-    alive = np.bincount(s.part[s.F[:, 0]], minlength=parts) > 0
-    waiting = alive & (np.bincount(s.part[cand.keep], minlength=parts) == 0) & (s.part_cost > 0)
-    return bool(np.any(waiting & (float(rms[chosen].max()) > PART_HELD_BACK * s.part_cost)))
+    records what each part's collapses cost when the pass goes ahead."""
+    if s.guards.step + 1 < len(s.ladder):
+        parts = len(s.part_cost)
+        alive = np.bincount(s.part[s.F[:, 0]], minlength=parts) > 0
+        waiting = alive & (np.bincount(s.part[cand.keep], minlength=parts) == 0) & (s.part_cost > 0)
+        if np.any(waiting & (float(rms[chosen].max()) > PART_HELD_BACK * s.part_cost)):
+            return True
+    np.maximum.at(s.part_cost, s.part[cand.keep[chosen]], rms[chosen])
+    return False
 
 
 def _crawling(s: State, removed: int, needed: int) -> bool:
