@@ -201,9 +201,9 @@ def split(result: SimplifyResult, layout: Layout) -> list:
             stats=dataclasses.replace(
                 stats, input_vertices=int(layout.vertex_offsets[i + 1] - layout.vertex_offsets[i]),
                 input_faces=own_faces, output_vertices=len(vertex_rows), output_faces=len(face_rows),
-                # A part's share is what the asset's run gave it: its target.
-                target_faces=len(face_rows), max_error=stats.max_error / scale,
-                stop_reason=STOP_TARGET if stats.stop_reason == STOP_TARGET else stats.stop_reason,
+                # A part's share is what the asset's run gave it: its target, reached. Why
+                # the run itself stopped is the combined result's (stats.stop_reason).
+                target_faces=len(face_rows), max_error=stats.max_error / scale, stop_reason=STOP_TARGET,
                 welded_vertices=0, removed_components=0),
             vertex_attributes=vattrs,
             corner_attributes=cattrs,
