@@ -987,7 +987,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
                 _replace_lod(old)
     asset_switch = switch
     reports = []
-    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal, area share)
+    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal, part samples)
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _lod_collection(scene, source)
