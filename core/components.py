@@ -32,6 +32,20 @@ def face_labels(faces: np.ndarray, n_vertices: int) -> np.ndarray:
     return vertex_labels(faces, n_vertices)[faces[:, 0]]
 
 
+def _parts(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, face_weight=None) -> tuple:
+    """(the part of each face (m,) in 0..k-1, and per part: its surface area (k,), its
+    faces (k,) counted with ``face_weight``, whether it has a locked vertex (k,)).
+    ``faces`` not empty."""
+    label = vertex_labels(faces, len(vertices))
+    parts, part_of_face = np.unique(label[faces[:, 0]], return_inverse=True)
+    k = len(parts)
+    _, area = face_frames(vertices, faces)
+    part_area = np.bincount(part_of_face, weights=area, minlength=k)
+    part_faces = np.bincount(part_of_face, weights=face_weight, minlength=k)
+    has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=k) > 0
+    return part_of_face, part_area, part_faces, has_lock
+
+
 def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, need: int,
                      face_weight=None):
     """((m,) bool of the faces to delete, how many parts they are), or None when no part
@@ -42,24 +56,18 @@ def smallest_to_drop(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray
     the artist locked is never removed). ``face_weight``: (m,) what each face counts
     toward ``need`` (Options.part_copies), default 1.
     """
-    n = len(vertices)
-    label = face_labels(faces, n)
-    if len(label) == 0 or need <= 0:
+    if len(faces) == 0 or need <= 0:
         return None
-    parts, part_of_face = np.unique(label, return_inverse=True)
-    if len(parts) < 2:
+    part_of_face, part_area, part_faces, has_lock = _parts(faces, vertices, locked, face_weight)
+    if len(part_area) < 2:
         return None
-    _, area = face_frames(vertices, faces)
-    part_area = np.bincount(part_of_face, weights=area, minlength=len(parts))
-    part_faces = np.bincount(part_of_face, weights=face_weight, minlength=len(parts))
-    has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=len(parts)) > 0
     order = np.argsort(part_area, kind="stable")
     spare = order[:-1]  # the largest part stays
     spare = spare[~has_lock[spare]]
     if len(spare) == 0:
         return None
     upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="left")) + 1
-    drop = np.zeros(len(parts), dtype=bool)
+    drop = np.zeros(len(part_area), dtype=bool)
     drop[spare[:upto]] = True
     return drop[part_of_face], int(drop.sum())
 
@@ -71,32 +79,28 @@ def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, si
     ``size``, smallest first, no more than it takes to remove ``need`` faces (counted
     with ``face_weight`` (m,), default 1), or the smallest alone when that is more and
     ``at_least_one``. Never the largest part (by area) nor one with a locked vertex."""
-    n = len(vertices)
     if len(faces) == 0:
         return None, 0, np.inf
-    label = vertex_labels(faces, n)
-    used = np.unique(faces)
-    parts, part_of_vertex = np.unique(label[used], return_inverse=True)
-    if len(parts) < 2:
+    part_of_face, part_area, part_faces, has_lock = _parts(faces, vertices, locked, face_weight)
+    k = len(part_area)
+    if k < 2:
         return None, 0, np.inf
-    lo = np.full((len(parts), 3), np.inf)
-    hi = np.full((len(parts), 3), -np.inf)
-    np.minimum.at(lo, part_of_vertex, vertices[used])
-    np.maximum.at(hi, part_of_vertex, vertices[used])
+    # Each part's bounding box from its corners (a face's corners share its part).
+    part_of_corner = np.repeat(part_of_face, 3)
+    corners = vertices[faces.ravel()]
+    lo = np.full((k, 3), np.inf)
+    hi = np.full((k, 3), -np.inf)
+    np.minimum.at(lo, part_of_corner, corners)
+    np.maximum.at(hi, part_of_corner, corners)
     diagonal = np.linalg.norm(hi - lo, axis=1)
-    part_of_face = np.searchsorted(parts, label[faces[:, 0]])
-    _, area = face_frames(vertices, faces)
-    part_area = np.bincount(part_of_face, weights=area, minlength=len(parts))
-    has_lock = np.bincount(part_of_face, weights=locked[faces].any(axis=1), minlength=len(parts)) > 0
     may_go = ~has_lock
     may_go[int(np.argmax(part_area))] = False
     spare = np.flatnonzero(may_go & (diagonal < size))
     spare = spare[np.argsort(diagonal[spare], kind="stable")]
-    part_faces = np.bincount(part_of_face, weights=face_weight, minlength=len(parts))
     upto = int(np.searchsorted(np.cumsum(part_faces[spare]), need, side="right")) if need > 0 else 0
     if at_least_one and need > 0:
         upto = max(upto, min(1, len(spare)))
-    drop = np.zeros(len(parts), dtype=bool)
+    drop = np.zeros(k, dtype=bool)
     drop[spare[:upto]] = True
     rest = diagonal[may_go & ~drop]
     smallest = float(rest.min()) if len(rest) else np.inf
