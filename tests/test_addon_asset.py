@@ -131,6 +131,10 @@ def test_small_parts_leave_far_levels_unless_kept(res):
     last = far["asset"]["levels"][-1]
     assert last["parts"] < 4
     drawn_source = sum(far["source_triangles"].values())
-    assert abs(last["triangles"] - round(0.006 * drawn_source)) <= 2
+    # Where every collapse left costs more than a bolt, the bolts go even if the level then
+    # ends under its budget, by at most what they drew at the level before (core.engine).
+    budget = round(0.006 * drawn_source)
+    gone = sum(far["lods"][name][-1]["triangles"] for name in ("Bolt", "Bolt2"))
+    assert budget - gone - 2 <= last["triangles"] <= budget + 2, (last["triangles"], budget, gone)
     assert far["lods"]["Hull"][-1]["triangles"] > kept["lods"]["Hull"][-1]["triangles"]
     assert all(len(chain) == 4 for chain in kept["lods"].values())
