@@ -125,6 +125,7 @@ def combine(parts: Sequence[Part]) -> tuple:
         vertex_attributes=vattrs, corner_attributes=cattrs,
         normalize_attributes=tuple(sorted({a for p in parts for a in p.options.normalize_attributes})),
         uv_attributes=tuple(sorted({a for p in parts for a in p.options.uv_attributes})),
+        seamless_attributes=tuple(sorted({a for p in parts for a in p.options.seamless_attributes})),
         shape_attributes=tuple(sorted(shapes)),
         feature_edges=np.concatenate(edges) if edges else None,
         edge_weights=np.concatenate(weights) if edges else None,

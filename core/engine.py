@@ -143,7 +143,7 @@ class State:
     complex: np.ndarray  # (n,) pinched or on an edge of 3+ faces (core.kinds.COMPLEX)
     corners: np.ndarray  # (n,) feature corners: locked while the rule feature_corners holds
     X: np.ndarray  # stacked vertex attributes (n, K)
-    wedges: object
+    wedges: object  # core.wedges.Wedges of the corner attributes that make seams, or None
     touched: np.ndarray  # pass in which each vertex's neighbourhood last changed
     conn: object  # connectivity of F
     rejected_pass: np.ndarray  # (k,) per edge: pass of its last rejection, 0 never
@@ -169,6 +169,7 @@ class State:
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
     bound: object = None  # DistanceBound, when max_error or painted limits bound the distance
     collapses: int = 0  # edge collapses applied so far
+    seamless: object = None  # Wedges of Options.seamless_attributes (custom normals), or None
     heartbeat: Heartbeat = field(default_factory=lambda: Heartbeat(None))  # progress and cancelling (core.heartbeat)
 
 
@@ -193,7 +194,9 @@ def run(p: Problem) -> list:
     heartbeat.beat()
     names = list(p.vertex_attributes)
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
-    wedges = Wedges.build(F, p.corner_attributes, p.options.uv_attributes) if p.corner_attributes else None
+    seamed = {k: a for k, a in p.corner_attributes.items() if k not in p.options.seamless_attributes}
+    seamless = {k: a for k, a in p.corner_attributes.items() if k in p.options.seamless_attributes}
+    wedges = Wedges.build(F, seamed, p.options.uv_attributes) if seamed else None
     s = State(
         V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=p.locked, complex=complex_, corners=corners,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),
@@ -206,6 +209,7 @@ def run(p: Problem) -> list:
         ladder=relaxation_ladder(p.options.min_quality),
     )
     s.guards = s.ladder[0]
+    s.seamless = Wedges.build(F, seamless, ()) if seamless else None
     s.heartbeat = heartbeat
     s.copies = p.copies
     if p.options.vertex_part is not None:  # several parts in one run (core.assembly)
@@ -688,8 +692,9 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     t = edge_parameter(rows(s.V, keep), rows(s.V, remove), pos)
     if s.X.shape[1]:
         s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
-    if s.wedges is not None:
-        s.wedges.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
+    for corner_data in (s.wedges, s.seamless):
+        if corner_data is not None:
+            corner_data.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
     s.changed = np.zeros(len(s.V), dtype=bool)
     s.changed[keep] = True
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
@@ -720,8 +725,9 @@ def _apply(s: State, conn, cand, chosen, pass_no):
             s.cache.slot = s.cache.slot.compress(surviving_edges)
         if s.bound is not None:
             s.bound.far_rejected = s.bound.far_rejected.compress(surviving_edges)
-    if s.wedges is not None:
-        s.wedges.keep_faces(alive)
+    for corner_data in (s.wedges, s.seamless):
+        if corner_data is not None:
+            corner_data.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
     s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
 
@@ -731,8 +737,9 @@ def _drop_faces(s: State, alive):
     np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
     s.F = np.compress(alive, s.F, axis=0)
     s.face_origin = s.face_origin.compress(alive)
-    if s.wedges is not None:
-        s.wedges.keep_faces(alive)
+    for corner_data in (s.wedges, s.seamless):
+        if corner_data is not None:
+            corner_data.keep_faces(alive)
     s.conn = topology.build(s.F, len(s.V))
     _forget_rejections(s)
 
@@ -771,7 +778,10 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
         if name in p.options.normalize_attributes:
             vals = _renormalise(vals, p.vertex_attributes[name][kept])
         vattrs[name] = vals
-    cattrs = s.wedges.corner_values() if s.wedges is not None else {}
+    cattrs = {}
+    for corner_data in (s.wedges, s.seamless):
+        if corner_data is not None:
+            cattrs.update(corner_data.corner_values())
     if face_order is not None:
         cattrs = {k: a[face_order] for k, a in cattrs.items()}
     if turned is not None:

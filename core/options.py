@@ -94,6 +94,12 @@ class Options:
       corner_attributes: {name: (m, 3, k)} per face corner (UVs, corner colours); an edge
         across which one of them is discontinuous is a seam, kept when preserve_seams.
       uv_attributes: names among corner_attributes (k = 2) whose triangles must not flip.
+      seamless_attributes: names among corner_attributes whose splits are no seams:
+        carried through collapses like the rest (each side of a split keeps its values)
+        but never holding a collapse back. For custom normals, whose splits are hard
+        edges (give those as feature_edges to keep their shape): as seams, the hard edges
+        of a faceted low-poly mesh lock nearly every vertex (a character: 512 of its 808
+        inner edges), and its LODs keep their triangles where they would do least.
       shape_attributes: names among vertex_attributes (k = 3) that are shape-key offsets
         (mesh units): the LOD is kept close at each key's full value too, not only at rest
         (the strongest 16 count; core.shape_keys).
@@ -136,6 +142,7 @@ class Options:
     normalize_attributes: Sequence[str] = ()
     corner_attributes: Optional[Mapping[str, Any]] = None
     uv_attributes: Sequence[str] = ()
+    seamless_attributes: Sequence[str] = ()
     preserve_seams: bool = True
     feature_edges: Any = None
     feature_weight: float = 1.0

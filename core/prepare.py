@@ -176,6 +176,9 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
     for name in o.uv_attributes or ():
         if name not in cattrs or cattrs[name].shape[2] != 2:
             raise ValueError(f"uv_attributes names {name!r}, which is not a 2-component corner attribute")
+    for name in o.seamless_attributes or ():
+        if name not in cattrs:
+            raise ValueError(f"seamless_attributes names {name!r}, which is not a corner attribute")
     fe = checks.edge_list(o.feature_edges if o.feature_edges is not None else [], n, "feature_edges")
     feature_weight = checks.non_negative(o.feature_weight, "feature_weight")
     feature_angle = o.feature_angle
@@ -220,7 +223,8 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
         min_quality=min_quality, pose_weight=pose_weight, key_scale_exponent=key_scale_exponent,
         preserve_seams=bool(o.preserve_seams),
         remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
-        uv_attributes=tuple(o.uv_attributes or ()), shape_attributes=tuple(o.shape_attributes or ()),
+        uv_attributes=tuple(o.uv_attributes or ()), seamless_attributes=tuple(o.seamless_attributes or ()),
+        shape_attributes=tuple(o.shape_attributes or ()),
         weld_distance=None if o.weld_distance is None else float(o.weld_distance))
     return Checked(options, v, f, tgt, max_error, vertex_limits, line_weights, quadric_scale, locked, vattrs, cattrs, fe, few,
                    poses, vertex_part, copies)

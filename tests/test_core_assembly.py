@@ -183,3 +183,22 @@ def test_every_part_comes_back_valid_and_the_asset_meets_its_budget(spec, ratio)
     for r, p in zip(levels[0], parts):
         if r is not None:
             check.assert_valid_result(r, p.vertices, p.faces)
+
+
+def test_a_part_seamless_corner_data_stays_seamless_in_the_run():
+    """Part A (the second) carries faceted normals without seams (Options.seamless_attributes),
+    B nothing: the combined run must not turn A's normal splits into seams, so A is
+    simplified as far as it would be without them, at the strictest rules."""
+    V, F = _sphere(3)
+    face_normals, _ = core.geometry.face_frames(V, F)
+    normals = np.repeat(face_normals[:, None, :], 3, axis=1)
+    a = core.Options(corner_attributes={"normal": normals}, seamless_attributes=("normal",))
+    parts = [assembly.Part(V + 4.0, F, core.Options()), assembly.Part(V, F, a)]
+    v, f, options, _ = assembly.combine(parts)
+    assert options.seamless_attributes == ("normal",)
+    levels, results = _run(parts, [len(F) // 2])
+    rb, ra = levels[0]
+    assert results[0].stats.relaxation_step == 0
+    # The same sphere twice, normals or not: about the same share each (324 and 316 here).
+    assert abs(len(ra.faces) - len(rb.faces)) <= 0.05 * len(F)
+    assert set(ra.corner_attributes) == {"normal"}

@@ -455,3 +455,37 @@ def test_shape_attributes_must_be_offsets():
         core.simplify(V, F, ratio=0.5, vertex_attributes={"w": np.zeros((len(V), 2))}, shape_attributes=("w",))
     with pytest.raises(ValueError, match="shape_attributes"):
         core.simplify(V, F, ratio=0.5, shape_attributes=("missing",))
+
+
+def _faceted_sphere():
+    """A UV sphere shaded flat by its corner data: each corner carries its face's normal,
+    so every edge is a split (an exporter's faceted low-poly mesh)."""
+    V, F, _ = build.uv_sphere(24, 16)
+    face_normals, _ = core.geometry.face_frames(V, F)
+    return V, F, face_normals, np.repeat(face_normals[:, None, :], 3, axis=1)
+
+
+def test_seamless_corner_data_is_carried_but_never_holds_a_collapse_back():
+    V, F, face_normals, normals = _faceted_sphere()
+    plain = core.simplify(V, F, ratio=0.1)
+    as_seams = core.simplify(V, F, ratio=0.1, corner_attributes={"normal": normals})
+    seamless = core.simplify(V, F, ratio=0.1, corner_attributes={"normal": normals},
+                             seamless_attributes=("normal",))
+    # As seams, every vertex is a seam junction: the run needs looser rules to get there.
+    assert as_seams.stats.relaxation_step >= SEAM_ENDS_SLIDE
+    # Seamless, the geometry is the plain run's, to the bit, at the strictest rules ...
+    assert seamless.stats.relaxation_step == 0 and seamless.stats.stop_reason == core.STOP_TARGET
+    np.testing.assert_array_equal(seamless.faces, plain.faces)
+    np.testing.assert_array_equal(seamless.vertices, plain.vertices)
+    # ... and every corner keeps a value of the source's: each side of a split its own.
+    out = seamless.corner_attributes["normal"].reshape(-1, 3)
+    nearest = np.abs(out[:, None, :] - face_normals[None, :, :]).max(axis=2).min(axis=1)
+    assert nearest.max() < 1e-12
+    origin = face_normals[seamless.face_origin]
+    assert np.mean(np.einsum("ijk,ik->ij", seamless.corner_attributes["normal"], origin) > 0.999) > 0.9
+
+
+def test_seamless_attributes_must_name_corner_attributes():
+    V, F, _, normals = _faceted_sphere()
+    with pytest.raises(ValueError, match="seamless_attributes names 'normals'"):
+        core.simplify(V, F, ratio=0.5, corner_attributes={"normal": normals}, seamless_attributes=("normals",))
