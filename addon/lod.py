@@ -280,7 +280,9 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
         uvs.append(f"uv{i}")
     if data.custom_normals is not None:
         # Carried like any corner attribute: a corner keeps (or interpolates) its source
-        # corners' normals, and a hard edge, where the normals differ, stays a split.
+        # corners' normals, and a hard edge, where the normals differ, stays a split. But
+        # no seam (core Options.seamless_attributes): an exporter's hard edges are
+        # everywhere on a faceted low-poly mesh and would lock nearly every vertex.
         cattr["normal"] = data.custom_normals
 
     feature_sets = []
@@ -306,6 +308,7 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
         normalize_attributes=tuple(normalize),
         corner_attributes=cattr,
         uv_attributes=tuple(uvs),
+        seamless_attributes=("normal",) if "normal" in cattr else (),
     )
     if len(feature_edges):
         options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
