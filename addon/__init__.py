@@ -21,6 +21,7 @@ Modules (one idea each):
     operators       Generate LODs, Paint Importance, Importance from Armature, Show Deviation
     panel           the sidebar panel
     measure         surface deviation and the LOD report numbers
+    bvh             the closest-point trees (Blender's mathutils) measure queries
     level_deviation where a LOD differs: per vertex (the heat map), per material and painted
                     region (the report), the posed numbers' summary (no bpy)
     posed_deviation the posed distance of skinned LODs over the armature's own actions
@@ -31,6 +32,12 @@ Modules (one idea each):
 The submodules that need bpy are imported inside register(), so the pure-NumPy parts
 (edges, settings, importance, mesh_data, level_deviation) import without Blender.
 """
+from . import bvh as _bvh
+from .measure import set_tree_builder as _set_tree_builder
+
+# The deviation measurement queries Blender's closest-point trees (mathutils, imported
+# only when a tree is built): wherever the package is imported, measure.py has them.
+_set_tree_builder(_bvh.build_tree)
 
 _classes = []
 _cli_commands = []  # handles from bpy.utils.register_cli_command

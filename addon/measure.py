@@ -43,8 +43,9 @@ report (50,000 samples, default chain of 3 LODs) measured 9 % longer on the bunn
 11 % on the ogre with them; ``normal_deviation`` on its own queries again, 26-47 % of a
 two-sided distance measurement.
 
-``mathutils`` is imported inside the functions so this module can be imported without
-Blender (documentation, type checks); only calling it needs bpy's mathutils.
+The closest-point tree is the one thing here that needs Blender (``mathutils``): it is
+handed in (``set_tree_builder``; addon/bvh.py builds it), so this module imports without
+Blender and its sampling and statistics run anywhere; measuring needs bpy's mathutils.
 """
 from __future__ import annotations
 
@@ -166,10 +167,26 @@ def _sample_surface(vertices, faces, n: int, rng: np.random.Generator) -> tuple:
     return points, tri, bary
 
 
-def _build_tree(v: np.ndarray, f: np.ndarray):
-    from mathutils.bvhtree import BVHTree
+# How a surface becomes a tree that answers closest-point queries: Blender has the tree
+# (mathutils.bvhtree.BVHTree, addon/bvh.py), so it is handed in (set_tree_builder, which
+# the add-on's package calls on import) and this module imports nothing of Blender's.
+_tree_builder = None
 
-    return BVHTree.FromPolygons(v.tolist(), f.tolist(), all_triangles=True)
+
+def set_tree_builder(build) -> None:
+    """Measure through ``build(vertices (n, 3) float64, faces (m, 3) int64)``: a tree of the
+    surface's triangles with mathutils BVHTree's ``find_nearest(point, distance=inf)``
+    (location, normal, triangle index, distance; all None when nothing is within
+    ``distance``)."""
+    global _tree_builder
+    _tree_builder = build
+
+
+def _build_tree(v: np.ndarray, f: np.ndarray):
+    if _tree_builder is None:
+        raise RuntimeError("no closest-point tree to measure with: the add-on's package installs "
+                           "Blender's on import (addon/bvh.py)")
+    return _tree_builder(v, f)
 
 
 def _distances(tree, points: np.ndarray, with_faces: bool = False):
