@@ -22,9 +22,9 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ._core import core
-from . import importance, key_deviation, switch_distances
-from .settings import LodSettings
+from .pure._core import core
+from .pure import importance, key_deviation, switch_distances
+from .pure.settings import LodSettings
 
 
 # On every object of an asset's chains, sources too: the asset's name (addon/gltf_lod.py

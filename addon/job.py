@@ -37,11 +37,11 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import asset as asset_set
-from . import deviation_search
-from . import level_deviation
-from . import measure
+from .pure import deviation_search
+from .pure import level_deviation
+from .pure import measure
 from . import lod
-from .settings import LodError
+from .pure.settings import LodError
 
 
 # Source Shape Keys over an asset: one reference for the keys' motion over all parts, in

@@ -25,28 +25,28 @@ import numpy as np
 
 import bpy
 
-from ._core import core
+from .pure._core import core
 from . import asset as asset_set
 from . import bake
-from . import deviation_search
-from . import deviation_targets
-from . import edges as edge_util
-from . import importance as imp
-from . import key_deviation
-from . import level_deviation
-from . import limits
-from . import measure
+from .pure import deviation_search
+from .pure import deviation_targets
+from .pure import edges as edge_util
+from .pure import importance as imp
+from .pure import key_deviation
+from .pure import level_deviation
+from .pure import limits
+from .pure import measure
 from . import mesh_io
 from . import posed_deviation
-from . import skin_fit
-from . import switch_distances
+from .pure import skin_fit
+from .pure import switch_distances
 from . import vertex_groups
 # The report's sample counts live with the deviation search, which measures as the report
 # does, and CHECK_POSES with the skin fit; callers still name them lod.<name>.
-from .deviation_search import DEVIATION_SAMPLES, DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE  # noqa: F401
-from .deviation_search import report_samples
-from .settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
-from .skin_fit import CHECK_POSES
+from .pure.deviation_search import DEVIATION_SAMPLES, DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE  # noqa: F401
+from .pure.deviation_search import report_samples
+from .pure.settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
+from .pure.skin_fit import CHECK_POSES
 
 SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
 LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
@@ -89,8 +89,8 @@ class LodInput:
     check_poses: Optional[np.ndarray] = None
     # A chain by deviation: each LOD's largest allowed measured distance, in the object's
     # own (local) units, like the mesh data;
-    # ``targets`` are then the rungs the search measures (addon/deviation_search.py,
-    # addon/deviation_targets.py).
+    # ``targets`` are then the rungs the search measures (addon/pure/deviation_search.py,
+    # addon/pure/deviation_targets.py).
     deviations: Optional[list] = None
     # A part of an asset (addon/asset.py): its targets are the asset budget's share
     # (set by LodJob before compute; [] when the split removes it at LOD1), deviations are
@@ -100,9 +100,9 @@ class LodInput:
     in_asset: bool = False
     reference_diagonal: Optional[float] = None
     # The source's material per slot (None: an empty slot), for the report's breakdown
-    # per material (addon/level_deviation.py).
+    # per material (addon/pure/level_deviation.py).
     material_names: list = field(default_factory=list)
-    # Painted limits (addon/limits.py): (the limit group's column of data.group_weights,
+    # Painted limits (addon/pure/limits.py): (the limit group's column of data.group_weights,
     # the limit L in the object's units, or per level a tuple of them (pixels: set by
     # compute), their size in scene units), or None.
     limit: Optional[tuple] = None
@@ -292,7 +292,7 @@ def _core_options(obj, settings, data, g, poses=None) -> tuple:
         feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
     feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
 
-    # Each setting's core option is named in its row of addon/settings.py's SETTINGS.
+    # Each setting's core option is named in its row of addon/pure/settings.py's SETTINGS.
     options = core.Options(
         # Shape keys count in the error too: the LOD stays close at each key's full value.
         shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
@@ -416,7 +416,7 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
 
 def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, reference: Optional[float],
                   in_asset: bool, warnings: list) -> Optional[tuple]:
-    """The settings' painted limit for ``source`` (addon/limits.py): (column, L in the
+    """The settings' painted limit for ``source`` (addon/pure/limits.py): (column, L in the
     object's units or None for pixels, object to scene units), or None without a Limit
     Group. A group the object lacks is a LodError, or for a part of an asset a note (the
     part is free); ``reference``: the asset's diagonal in the object's units (None: its
@@ -446,7 +446,7 @@ def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, referen
 
 
 def importance_preview(obj, settings: LodSettings) -> tuple:
-    """The effective importance of ``obj``'s vertices in [0, 1] (addon/importance.py,
+    """The effective importance of ``obj``'s vertices in [0, 1] (addon/pure/importance.py,
     ``effective``) under ``settings``, read from the object's own mesh (not the modifier
     result, so it can be written back as a vertex group), and how many vertices count as
     painted (g >= 0.5). Raises LodError when the settings name no importance."""
@@ -627,7 +627,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
                                                                      simplify_share, _simplify)
     elif lod_input.limit is not None:
         # Painted limits with triangle targets: measured as the report measures, rerun
-        # tighter where a level came out beyond (addon/limits.py).
+        # tighter where a level came out beyond (addon/pure/limits.py).
         first = _with_pixel_limit(lod_input, simplify) if lod_input.limit[1] is None else None
         results, measured, built = _held_to_limit(lod_input, simplify, first)
         requested = [None] * len(results)
@@ -740,7 +740,7 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
 
 def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
     """The chain under a painted limit in pixels at each LOD's switch distance
-    (addon/limits.py): a first run without it gives each level's largest error ε_k
+    (addon/pure/limits.py): a first run without it gives each level's largest error ε_k
     (measured, with the deviation search's quicker sampling), the limit is then
     P / Pixel Error of it per level, and the chain runs again under those limits. Sets
     the per-level limits into lod_input.limit."""
@@ -1070,7 +1070,7 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                LOD and the source each with that key at 1; key_deviation.py),
                measured: materials, regions ({name: {mean_percent, p95_percent,
                max_percent, samples}}), deviation_colors (with Deviation Colors), posed
-               (skinned: over the armature's actions; addon/level_deviation.py,
+               (skinned: over the armature's actions; addon/pure/level_deviation.py,
                addon/posed_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],

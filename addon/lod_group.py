@@ -16,7 +16,7 @@ from __future__ import annotations
 import bpy
 
 from . import lod
-from .settings import LodError
+from .pure.settings import LodError
 
 BASE_NAME_PROP = "lod_base_name"  # on a source renamed "<name>_LOD0": its name before
 LOD_GROUP_SUFFIX = "_LODGroup"

@@ -13,11 +13,11 @@ import numpy as np
 
 import bpy
 
-from ._core import core
-from . import edges as edge_util
+from .pure._core import core
+from .pure import edges as edge_util
 from . import vertex_groups
 # The arrays themselves are bpy-free (mesh_data.py); named here as always.
-from .mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
+from .pure.mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
 
 
 def _get(collection, prop, count, dtype, width=1):

@@ -15,11 +15,11 @@ import numpy as np
 import bpy
 
 from . import deviation_view, lod, vertex_groups
-from .importance import expected_gain
+from .pure.importance import expected_gain
 from .job import LodJob
 from .lod import LodCancelled, LodError, LodSettings
 from .props import settings_properties
-from .settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
+from .pure.settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',

@@ -24,9 +24,9 @@ from typing import Optional
 
 import numpy as np
 
-from . import level_deviation
-from . import measure
-from .deviation_search import report_samples
+from .pure import level_deviation
+from .pure import measure
+from .pure.deviation_search import report_samples
 
 FRAMES_PER_ACTION = 8
 MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)

@@ -9,7 +9,7 @@ two materials (its two halves) and a painted vertex group (a cap). Its default c
 report measures it (lod._level_report's measurement: mesh_report with the shading
 normals, at report_samples) with and without keeping its points (alternately, the
 fastest of ``--repeats`` kept), and the breakdown per material and region
-(addon/level_deviation.py: what every measured LOD now pays) and the heat map (Deviation
+(addon/pure/level_deviation.py: what every measured LOD now pays) and the heat map (Deviation
 Colors) are timed on their own, the fastest of five times as many runs: a busy machine
 slows a measurement of half a second by more than the breakdown costs. Prints a
 markdown table; the extra columns are in percent of the measurement.
@@ -24,8 +24,9 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 import numpy as np
 
-from addon import deviation_search, level_deviation, lod, measure, mesh_io
-from addon.settings import LodSettings
+from addon.pure import deviation_search, level_deviation, measure
+from addon import lod, mesh_io
+from addon.pure.settings import LodSettings
 
 
 def bumpy_sphere():

@@ -16,7 +16,7 @@ poses or clip frames) are taken from Blender as bone matrices, and then, in NumP
               each source vertex's posed distance to the "none" LOD over the evaluation
               poses, through the calibrated slider at Strength 0.5. No artist has it; it
               bounds what any density-only mapping (the paper's among them) could do.
-Posed: two-sided mean distance (addon/measure.py) between the posed source and the posed
+Posed: two-sided mean distance (addon/pure/measure.py) between the posed source and the posed
 LOD, linear blend skinning of both in NumPy (checked here against Blender's own posed
 source), % of the bounding-box diagonal, averaged over the row's poses; ratios over none.
 --poses, --seed and --pose-weight change the sample poses (core.skinning.random_poses) and
@@ -36,10 +36,10 @@ import numpy as np  # noqa: E402
 
 import core  # noqa: E402
 import skinned_poses as sp  # noqa: E402
-from addon import importance as imp  # noqa: E402
+from addon.pure import importance as imp  # noqa: E402
 from addon import lod  # noqa: E402
-from addon.measure import surface_deviation  # noqa: E402
-from addon.settings import LodSettings  # noqa: E402
+from addon.pure.measure import surface_deviation  # noqa: E402
+from addon.pure.settings import LodSettings  # noqa: E402
 from fig_skinned import world_arrays  # noqa: E402
 
 skin = core.skinning.skin

@@ -1,4 +1,4 @@
-"""The settings table (addon/settings.py) and what is derived from it, without Blender."""
+"""The settings table (addon/pure/settings.py) and what is derived from it, without Blender."""
 from __future__ import annotations
 
 import argparse
@@ -7,8 +7,8 @@ import dataclasses
 import pytest
 
 import core
-from addon import settings as st
-from addon.settings import SETTINGS, LodError, LodSettings
+from addon.pure import settings as st
+from addon.pure.settings import SETTINGS, LodError, LodSettings
 
 
 def test_lod_settings_are_the_table_plus_the_explicit_chain():

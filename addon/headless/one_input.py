@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 import traceback
 
-from ..settings import LodError
+from ..pure.settings import LodError
 from . import freshness, report, scene_files, sidecar, sources
 from .arguments import CHAIN_LABELS, RUN_OPTIONS, lod_settings
 from .console import Console

@@ -18,12 +18,12 @@ bpy module, each LOD posed by the same armature at 10 frames of the Fox's "Run" 
     LOD object gets its vertex groups and its own Armature modifier. Every other setting
     is the add-on's default (UV seams, sharp edges, boundaries kept);
   * ours, Armature (Paper): source ARMATURE_PAPER, the paper's w_i = min(0.15 (1 - s_i), 0.1)
-    over its cap as the importance g, acting like painted importance (addon/importance.py);
+    over its cap as the importance g, acting like painted importance (addon/pure/importance.py);
   * ours, no importance: the same with importance source NONE;
   * both again with UV Seams off, because Blender's Decimate does not keep seams either;
   * Blender's Decimate (Collapse, default settings) inserted between the Subdivision
     Surface and the Armature modifier, so Blender's LOD is skinned by its own weights.
-Deviation: two-sided Hausdorff and mean distance (addon/measure.py) between each posed LOD
+Deviation: two-sided Hausdorff and mean distance (addon/pure/measure.py) between each posed LOD
 and the posed original, in % of the posed original's bounding-box diagonal; the same at
 rest for reference.
 """
@@ -43,8 +43,8 @@ from mathutils.bvhtree import BVHTree
 
 import core
 from addon import lod
-from addon.measure import surface_deviation
-from addon.settings import LodSettings
+from addon.pure.measure import surface_deviation
+from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays, stdout_to_stderr
 
 RATIO = 0.1

@@ -6,10 +6,10 @@ For each row, LODs at the same triangle count through the add-on (addon.lod.gene
 every other setting the default) with
   * none:   importance source None;
   * paper:  source Armature (the paper's mapping), w_i = min(0.15 (1 - s_i), 0.1) as
-            painted importance through the calibrated Strength slider (addon/importance.py);
+            painted importance through the calibrated Strength slider (addon/pure/importance.py);
 and Blender's Decimate (Collapse) inserted just before the Armature modifier, so it is
 skinned by Blender's own interpolated weights. Each is posed by the rig and measured
-against the posed original: two-sided mean distance (addon/measure.py), % of the posed
+against the posed original: two-sided mean distance (addon/pure/measure.py), % of the posed
 original's bounding-box diagonal, averaged over the row's poses; "rest" is the same at
 the rest pose. The ratios are with / without importance.
 
@@ -43,8 +43,8 @@ import humanoid
 import numpy as np
 
 from addon import lod
-from addon.measure import surface_deviation
-from addon.settings import LodSettings
+from addon.pure.measure import surface_deviation
+from addon.pure.settings import LodSettings
 from fig_skinned import load_fox, world_arrays
 from blender_reference import stdout_to_stderr
 

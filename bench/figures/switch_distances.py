@@ -8,7 +8,7 @@ folder a subdivided Suzanne) through the add-on's own path: the command line's o
 ``--screen-size PX --lods N`` (addon/headless/arguments.py) give the LodSettings, and
 LodJob computes and commits the chain as the panel and the command line do. Each level's
 switch distance D_i is read back from the custom property ``lqlod_switch_distance`` of its
-object (the number the FBX, glTF and sidecar carry; addon/switch_distances.py).
+object (the number the FBX, glTF and sidecar carry; addon/pure/switch_distances.py).
 
 Then, per switch, the camera is put D_i from the source's bounds centre (the distance the
 engines measure), with the engines' view: θ = 60° vertical on a 1920 x 1080 frame (the
@@ -38,7 +38,7 @@ from matplotlib.patches import Rectangle
 from mathutils import Matrix, Vector
 
 from addon import lod as lod_module
-from addon import switch_distances
+from addon.pure import switch_distances
 from addon.headless import arguments
 from addon.job import LodJob
 from blender_reference import load_mesh, stdout_to_stderr

@@ -120,7 +120,7 @@ def normal_deviations() -> dict:
     dropped (reset to what Blender computes from its smooth flags and sharp edges)."""
     lod_module = extension_module("addon.lod")
     mesh_io = extension_module("addon.mesh_io")
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
     out = {}
     for name in ("up", "weighted", "by_angle", "split"):
         remove_all_objects()

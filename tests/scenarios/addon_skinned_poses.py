@@ -32,8 +32,8 @@ def set_pose(rig, seed) -> None:
 
 def run() -> dict:
     lod = extension_module("addon.lod")
-    measure = extension_module("addon.measure")
-    LodSettings = extension_module("addon.settings").LodSettings
+    measure = extension_module("addon.pure.measure")
+    LodSettings = extension_module("addon.pure.settings").LodSettings
     result = {}
     remove_all_objects()
     rig = three_bone_rig()
@@ -42,7 +42,7 @@ def run() -> dict:
 
     lods = {}
     # 5 %, and a coarse 0.6 % (15 triangles a bone, where Source Armature checks the
-    # level against one made without the poses: addon/skin_fit.py, skinned_levels).
+    # level against one made without the poses: addon/pure/skin_fit.py, skinned_levels).
     for source, ratio, key in (('NONE', 0.05, 'NONE'), ('ARMATURE', 0.05, 'ARMATURE'),
                                ('ARMATURE_PAPER', 0.05, 'ARMATURE_PAPER'),
                                ('NONE', 0.006, 'NONE_COARSE'), ('ARMATURE', 0.006, 'ARMATURE_COARSE')):
@@ -78,7 +78,7 @@ def forward_kinematics_check(rig, ob, lod) -> list:
     """The sample poses' maths (core.skinning) against Blender's own Armature deformation,
     with the armature moved, turned and scaled and the mesh given its own transform: the
     largest distance between the two posed meshes, relative to the mesh's size, per pose."""
-    skinning = extension_module("addon._core").core.skinning
+    skinning = extension_module("addon.pure._core").core.skinning
     vertex_groups = extension_module("addon.vertex_groups")
     rig.location, rig.rotation_euler, rig.scale = (0.4, -1.2, 0.3), (0.3, -0.5, 1.1), (1.7, 1.7, 1.7)
     ob.matrix_parent_inverse = ob.matrix_parent_inverse @ mathutils_matrix((0.2, 0.1, -0.3), (0.0, 0.0, 0.4))

@@ -57,7 +57,7 @@ def deviation_report(data, level, normals=None, part_samples: Optional[int] = No
     """measure.mesh_report of ``level`` against the source, as the report measures it
     (``normals``: (source's, level's) corner normals, for the shading deviation too), with
     its points kept (``sampled``: the report's breakdown per material and region and the
-    heat map use them, addon/level_deviation.py)."""
+    heat map use them, addon/pure/level_deviation.py)."""
     return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
                                n_samples=(report_samples(len(data.faces), part_samples),
                                           report_samples(len(level.faces), part_samples)),

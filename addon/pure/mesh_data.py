@@ -76,7 +76,7 @@ class MeshData:
     corner_normals: Optional[np.ndarray] = None
     # Written onto the mesh build_mesh makes, not read back: float attributes on the
     # points, {name: (n,)}, and custom properties of the mesh datablock, {name: value}
-    # (a LOD's heat map: addon/level_deviation.py).
+    # (a LOD's heat map: addon/pure/level_deviation.py).
     point_floats: dict = field(default_factory=dict)
     mesh_properties: dict = field(default_factory=dict)
 

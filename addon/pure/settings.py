@@ -18,7 +18,7 @@ saved files and scripts use, so where the core follows the paper they differ, on
                                            --from-armature,
                                            --from-shape-keys
     Strength       importance_strength     --strength                quadric_scale = F(strength) ** g
-                                                                     (Sec. 4.4.1; addon/importance.py)
+                                                                     (Sec. 4.4.1; addon/pure/importance.py)
     Boundaries     preserve_boundaries,    --no-preserve-boundaries, boundary_weight (0 when off)
                    boundary_strength       --boundary-strength
     UV Seams       preserve_seams,         --no-preserve-seams,      preserve_seams, and seam edges in
@@ -52,7 +52,7 @@ class LodCancelled(Exception):
 
 
 IMPORTANCE_GROUP = "LOD_Importance"  # the vertex group Paint Importance and the sample use
-LIMIT_GROUP = "LOD_Limit"  # the vertex group Paint Limit makes (addon/limits.py)
+LIMIT_GROUP = "LOD_Limit"  # the vertex group Paint Limit makes (addon/pure/limits.py)
 PREVIEW_GROUP = "LOD_Importance_Preview"  # where Preview Importance writes what it shows
 
 IMPORTANCE_SOURCES = (
@@ -274,14 +274,14 @@ SETTINGS = (
             low=0.0, high=1.0, blender={"subtype": 'FACTOR'}, flag="--strength",
             cli={"metavar": "S", "help": "importance strength, 0 to 1: about 1.5x as dense at 0.1, 4.5x at 0.5, "
                                          "nearly locked at 1 (default {default:g})"},
-            core="quadric_scale = F(strength) ** g (addon/importance.py)"),
-    # Painted limits (issue 34, addon/limits.py): how far the LOD may move, not how dense it stays.
+            core="quadric_scale = F(strength) ** g (addon/pure/importance.py)"),
+    # Painted limits (issue 34, addon/pure/limits.py): how far the LOD may move, not how dense it stays.
     Setting("limit_group", "", "Limit Group",
             "Vertex group painting how far the LOD may move: where its weight is 1 every LOD stays "
             "within Limit of the source, at 0 the region is free, in between the limit grows as "
             "1 / weight. The triangle target is met elsewhere; when the limit makes it unreachable "
             "the LOD stops above it and says so",
-            core="vertex_max_error = limit / weight (addon/limits.py)"),
+            core="vertex_max_error = limit / weight (addon/pure/limits.py)"),
     Setting("limit_distance", 0.1, "Limit",
             "The largest distance to the source where the Limit Group's weight is 1, in percent "
             "of the object's bounding-box diagonal (the whole asset's when several objects are one "
@@ -290,7 +290,7 @@ SETTINGS = (
             what="limit", core="vertex_max_error"),
     Setting("limit_unit", 'PERCENT', "Limit Unit", "What Limit is measured in",
             items=LIMIT_UNITS, core="(percent of the diagonal, scene units, or pixels at the switch distance)"),
-    # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
+    # Unused since issue 19 (one calibrated mode, addon/pure/importance.py): accepted so older
     # scripts, files and the command line's --mode keep working.
     Setting("importance_mode", 'SOFT', "Mode", "No longer used (one calibrated mode); kept so older files load",
             items=IMPORTANCE_MODES, flag="--mode",
@@ -498,7 +498,7 @@ def parse_deviation(text: str) -> tuple:
 
 def parse_limit(text: str) -> tuple:
     """ "0.2%" -> (0.2, 'PERCENT'), "0.5px" -> (0.5, 'PIXELS'), "0.01" -> (0.01,
-    'DISTANCE'): a painted limit (addon/limits.py). ValueError for anything else."""
+    'DISTANCE'): a painted limit (addon/pure/limits.py). ValueError for anything else."""
     text = str(text).strip()
     unit = 'PIXELS' if text.lower().endswith("px") else 'PERCENT' if text.endswith("%") else 'DISTANCE'
     number = text[:-2] if unit == 'PIXELS' else text[:-1] if unit == 'PERCENT' else text
@@ -528,7 +528,7 @@ LodSettings = dataclasses.make_dataclass(
         # Or a chain by deviation (the command line's --max-error): per LOD the largest
         # measured distance to the source allowed, (value, True) in percent of the
         # source's bounding-box diagonal or (value, False) in scene units
-        # (addon/deviation_targets.py makes it).
+        # (addon/pure/deviation_targets.py makes it).
         ("max_deviations", Optional[tuple], None),
     ],
     bases=(_LodSettingsMethods,),

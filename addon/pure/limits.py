@@ -12,7 +12,7 @@ LOD's notes and report say.
 L is in scene units or in percent of the object's bounding-box diagonal (of the whole
 asset's when the object is part of one), as ``--max-error`` is, or in pixels at each
 LOD's switch distance. A LOD switches in where its largest measured error ε_k shows
-Pixel Error (τ) pixels (addon/switch_distances.py), so P pixels there are P · ε_k / τ
+Pixel Error (τ) pixels (addon/pure/switch_distances.py), so P pixels there are P · ε_k / τ
 scene units: a limit relative to the LOD's own error, one per level
 (``pixel_limits``). ε_k is measured on a first run without the limit (the run with it
 keeps the region and gives the rest more error, so its ε_k is no smaller: the region

@@ -72,7 +72,7 @@ _RADIUS_FACTOR = 2.0
 @dataclass
 class Sampled:
     """What surface_deviation(keep_samples=True) measured point by point, for reports that
-    break the distance down (addon/level_deviation.py) without querying again.
+    break the distance down (addon/pure/level_deviation.py) without querying again.
 
     Per direction (src_: src's points measured against dst; dst_: dst's against src),
     for each area-uniform sample: ``triangle`` (k,) of its own surface it lies on and its
@@ -478,19 +478,10 @@ def mesh_report(src_v, src_f, dst_v, dst_f, **deviation_options) -> dict:
     Keys: everything surface_deviation returns, plus mean_quality, min_quality,
     sliver_percent (core.quality_summary of dst), src_faces, dst_faces.
     """
-    # At runtime addon/ and core/ are subpackages of the extension's root package, so the
-    # relative import is the right one there. Tests and benches put the repository root
-    # on sys.path and import ``addon`` as a top-level package, which has no parent for
-    # ``..`` to reach; there ``core`` is itself top-level. Deciding by the package name
-    # (rather than by catching ImportError) keeps a real import error in core visible.
-    # Imported here, not at module level, so surface_deviation works without core.
-    if __package__ and "." in __package__:
-        from ..core import quality_summary
-    else:
-        from core import quality_summary
+    from ._core import core  # (here, as elsewhere in this module: surface_deviation works without core)
 
     report = surface_deviation(src_v, src_f, dst_v, dst_f, **deviation_options)
-    report.update(quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
+    report.update(core.quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
     report["src_faces"] = int(np.shape(src_f)[0])
     report["dst_faces"] = int(np.shape(dst_f)[0])
     return report
