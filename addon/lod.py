@@ -36,7 +36,9 @@ from .pure import key_deviation
 from .pure import level_deviation
 from .pure import limits
 from .pure import measure
+from .pure import rebuild
 from . import mesh_io
+from .pure import mesh_data
 from . import posed_deviation
 from .pure import skin_fit
 from .pure import switch_distances
@@ -492,99 +494,6 @@ def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "
 # ----------------------------------------------------------------------------- compute
 
 
-def _sharp_chains(data: mesh_io.MeshData, result) -> np.ndarray:
-    """(k, 2) LOD edges (LOD vertex ids) along which a chain of the source's sharp edges ran."""
-    kept = np.zeros(len(data.vertices), dtype=bool)
-    kept[result.vertex_origin] = True
-    pairs = edge_util.chains_through(data.sharp_edges, kept)
-    if len(pairs) == 0:
-        return pairs
-    lod_vertex = np.full(len(data.vertices), -1, dtype=np.int64)
-    lod_vertex[result.vertex_origin] = np.arange(len(result.vertex_origin))
-    pairs = lod_vertex[pairs]
-    lod_edges = edge_util.unique_edges(np.concatenate([result.faces[:, [0, 1]], result.faces[:, [1, 2]],
-                                                       result.faces[:, [2, 0]]]))
-    return pairs[edge_util.mark_edges(pairs, lod_edges, len(result.vertices))]
-
-
-def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float = 0.0) -> mesh_io.MeshData:
-    fo = result.face_origin
-    va, ca = result.vertex_attributes, result.corner_attributes
-    n_out = len(result.vertices)
-    weights = np.zeros((n_out, len(data.group_names)))
-    for key in ("skin", "groups"):
-        if key in names:
-            weights[:, names[key]] = np.clip(va[key], 0.0, 1.0)
-    colors = [
-        mesh_io.ColorLayer(layer.name, layer.domain, layer.data_type,
-                           va[f"color{i}"] if layer.domain == 'POINT' else ca[f"color{i}"])
-        for i, layer in enumerate(data.colors)
-    ]
-    uv_maps = {uv_name: ca[f"uv{i}"] for i, uv_name in enumerate(data.uv_maps)}
-    shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
-    smooth_group = data.smooth_group[fo]
-    faces = result.faces
-    # Normals split where the source's did: between faces of different smoothing regions,
-    # which sharp edges bound, and vertices split apart (an exported asset's hard edges;
-    # every edge, where each triangle has its own vertices). The core welds such vertices,
-    # so without this the LOD would shade smooth across them. Carried custom normals say
-    # themselves how the LOD shades; with them only the sharp edges are marked.
-    if len(data.sharp_edges) or "normal" not in ca:
-        sharp = edge_util.differing_edges(faces, smooth_group)
-    else:
-        sharp = np.empty((0, 2), np.int64)
-    if len(data.sharp_edges):
-        # And along the source's sharp edges, also those that end inside a smoothing
-        # region (a crease fading out), which the regions cannot say: where a chain of
-        # them ran between two vertices the LOD kept, and the LOD has that edge.
-        sharp = edge_util.unique_edges(np.concatenate([sharp, _sharp_chains(data, result)]))
-    if hard_edge_angle > 0 and "normal" not in ca:
-        sharp = edge_util.unique_edges(np.concatenate(
-            [sharp.reshape(-1, 2), core.features.sharp_edges(result.vertices, faces, hard_edge_angle)]))
-    if len(data.seam_edges):
-        # Seams where the source had them: between triangles from regions the seams
-        # separated, and, for seams that cut into a region (a cylinder's), where the UVs
-        # are split between two vertices that came from seam vertices.
-        on_seam = np.zeros(len(data.vertices), dtype=bool)
-        on_seam[data.seam_edges.ravel()] = True
-        on_seam = on_seam[result.vertex_origin]
-        parts = [edge_util.differing_edges(faces, data.seam_region[fo])]
-        for uv in uv_maps.values():
-            split = edge_util.corner_discontinuous_edges(faces, uv)
-            parts.append(split[on_seam[split].all(axis=1)])
-        seam = edge_util.unique_edges(np.concatenate(parts))
-    else:
-        seam = np.empty((0, 2), np.int64)
-    return mesh_io.MeshData(
-        vertices=result.vertices,
-        faces=faces,
-        material_index=data.material_index[fo],
-        smooth=data.smooth[fo],
-        smooth_group=smooth_group,
-        uv_maps=uv_maps,
-        uv_active=data.uv_active,
-        uv_render=data.uv_render,
-        colors=colors,
-        color_active=data.color_active,
-        color_render=data.color_render,
-        group_names=list(data.group_names),
-        group_weights=weights,
-        basis_name=data.basis_name,
-        shape_keys=shape_keys,
-        shape_use_relative=data.shape_use_relative,
-        sharp_edges=sharp,
-        seam_edges=seam,
-        seam_region=data.seam_region[fo] if data.seam_region is not None else None,
-        custom_normals=_unit(ca["normal"]) if "normal" in ca else None,
-    )
-
-
-def _unit(vectors: np.ndarray) -> np.ndarray:
-    """Rows scaled to length 1 (an interpolated normal is shorter); zero rows stay zero."""
-    length = np.linalg.norm(vectors, axis=-1, keepdims=True)
-    return np.divide(vectors, length, out=np.zeros_like(vectors), where=length > 1e-12)
-
-
 def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] = None) -> LodOutput:
     """Simplify and measure (no bpy data access: safe in a worker thread).
 
@@ -651,7 +560,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         elif id(result) in built and built[id(result)][0] is result:  # (measured under a limit)
             levels.append(built[id(result)][1])
         else:
-            levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
+            levels.append(rebuild.lod_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
         stats = result.stats
         entry = {
             "level": k,
@@ -722,9 +631,9 @@ def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) 
     for attempt in range(limits.RERUNS + 1):
         measured, built, used = {}, {}, []
         for k, result in enumerate(results):
-            level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
+            level = rebuild.lod_mesh(data, result, lod_input.names, settings.hard_edge_angle)
             built[id(result)] = (result, level)
-            normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
+            normals = None if data.corner_normals is None else (data.corner_normals, mesh_data.shading_normals(level))
             rep = deviation_search.deviation_report(data, level, normals, lod_input.part_samples)  # (as _level_report)
             measured[id(result)] = rep
             kept = limits.level_report(data, rep["sampled"], column, per_level[k],
@@ -763,7 +672,7 @@ def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Opt
     (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
     the level's report if a deviation search already made one; it gets the normal
     deviation on its own (the search measured before the LOD's normals existed)."""
-    normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
+    normals = None if data.corner_normals is None else (data.corner_normals, mesh_data.shading_normals(level))
     if measured is None:
         return deviation_search.deviation_report(data, level, normals, part_samples)
     if normals is None or "normal_mean_degrees" in measured:

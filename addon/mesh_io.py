@@ -13,7 +13,6 @@ import numpy as np
 
 import bpy
 
-from .pure._core import core
 from .pure import edges as edge_util
 from . import vertex_groups
 # The arrays themselves are bpy-free (mesh_data.py); named here as always.
@@ -292,15 +291,6 @@ def write_point_floats(mesh: bpy.types.Mesh, values: dict) -> None:
             mesh.attributes.remove(old)
         attr = mesh.attributes.new(name, 'FLOAT', 'POINT')
         attr.data.foreach_set("value", np.asarray(array, dtype=np.float32).reshape(-1))
-
-
-def shading_normals(data: MeshData) -> np.ndarray:
-    """(m, 3, 3) the corner normals Blender gives the mesh build_mesh(data) makes: the
-    custom normals it writes, else the ones Blender computes from the smooth flags and
-    sharp edges (core.shading.corner_normals), without building the mesh."""
-    if data.custom_normals is not None:
-        return np.asarray(data.custom_normals, dtype=np.float64)
-    return core.shading.corner_normals(data.vertices, data.faces, data.smooth, data.sharp_edges)
 
 
 def add_vertex_groups(obj: bpy.types.Object, data: MeshData) -> None:

@@ -24,8 +24,8 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 import numpy as np
 
-from addon.pure import deviation_search, level_deviation, measure
-from addon import lod, mesh_io
+from addon.pure import deviation_search, level_deviation, measure, mesh_data
+from addon import lod
 from addon.pure.settings import LodSettings
 
 
@@ -81,7 +81,7 @@ def main() -> None:
     data = lod_input.data
 
     def measured(level, keep):
-        normals = (data.corner_normals, mesh_io.shading_normals(level))
+        normals = (data.corner_normals, mesh_data.shading_normals(level))
         return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, normals=normals,
                                    keep_samples=keep,
                                    n_samples=(deviation_search.report_samples(len(data.faces)),

@@ -23,7 +23,7 @@ with addon/pure/measure.py's ``normal_deviation``: degrees between the source's 
 at area-uniform samples and the LOD's at the closest point; mean / 95th percentile. With
 custom normals, the LOD is also measured with them dropped (cleared, so Blender computes
 its own from the smooth flags and sharp edges): what carrying them is worth. The report's
-own number (normals computed before the mesh exists, mesh_io.shading_normals) is checked
+own number (normals computed before the mesh exists, mesh_data.shading_normals) is checked
 against the measured one; a difference over 0.1 degrees is printed to stderr.
 Prints a markdown table.
 """

@@ -12,7 +12,10 @@ Modules (one idea each):
                     the command line's options; LodError, LodCancelled
     importance      what the Importance settings mean as core parameters
     edges           edge bookkeeping (feature edges, sharp edges, seams)
-    mesh_data       MeshData, the arrays a mesh is read into and written from
+    mesh_data       MeshData, the arrays a mesh is read into and written from, and the
+                    corner normals Blender will shade them with
+    rebuild         a LOD's MeshData rebuilt from the core's result (attributes, sharp
+                    edges and seams carried back)
     measure         surface deviation and the LOD report numbers (the closest-point tree
                     is handed in: addon/bvh.py)
     deviation_targets  the search for LODs by deviation, over any measuring function

@@ -9,6 +9,8 @@ from typing import Optional
 
 import numpy as np
 
+from ._core import core
+
 
 @dataclass
 class ColorLayer:
@@ -83,3 +85,13 @@ class MeshData:
     @property
     def has_shape_keys(self) -> bool:
         return bool(self.shape_keys)
+
+
+def shading_normals(data: MeshData) -> np.ndarray:
+    """(m, 3, 3) the corner normals Blender gives the mesh addon/mesh_io.py's
+    build_mesh(data) makes: the custom normals it writes, else the ones Blender computes
+    from the smooth flags and sharp edges (core.shading.corner_normals), without building
+    the mesh."""
+    if data.custom_normals is not None:
+        return np.asarray(data.custom_normals, dtype=np.float64)
+    return core.shading.corner_normals(data.vertices, data.faces, data.smooth, data.sharp_edges)
