@@ -17,8 +17,6 @@ Three phases, so a caller can run the expensive middle one in a worker thread:
 from __future__ import annotations
 
 import dataclasses
-import time
-from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
@@ -28,26 +26,19 @@ import bpy
 from .pure._core import core
 from . import asset as asset_set
 from . import bake
-from .pure import deviation_search
 from .pure import deviation_targets
 from .pure import edges as edge_util
 from .pure import importance as imp
 from .pure import key_deviation
-from .pure import level_deviation
 from .pure import limits
 from .pure import measure
-from .pure import rebuild
 from . import mesh_io
-from .pure import mesh_data
 from . import posed_deviation
-from .pure import skin_fit
 from .pure import switch_distances
 from . import vertex_groups
-# The report's sample counts live with the deviation search, which measures as the report
-# does, and CHECK_POSES with the skin fit; callers still name them lod.<name>.
-from .pure.deviation_search import DEVIATION_SAMPLES, DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE  # noqa: F401
-from .pure.deviation_search import report_samples
-from .pure.settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
+from .pure.compute import compute
+from .pure.phases import LodInput
+from .pure.settings import LodError, LodSettings
 from .pure.skin_fit import CHECK_POSES
 
 SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
@@ -56,74 +47,6 @@ LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 # switch_distances.PER_LEVEL_KEYS: "lqlod_switch_distance", "lqlod_unity_transition_height", ...
 # The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
 SWITCH_PROP_PREFIX = "lqlod_"
-PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
-# What a measured LOD's report entry takes from measure.mesh_report: distances in % of the
-# source's bounding-box diagonal, the shading normals' angle to the source's in degrees
-# (measure.normal_deviation), triangle quality.
-NORMAL_KEYS = ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees")
-REPORT_KEYS = ("hausdorff_percent", "mean_percent") + NORMAL_KEYS + ("mean_quality", "min_quality",
-                                                                     "sliver_percent")
-# compute() reports simplification as this share of its progress and the deviation
-# measurement (when on) as the rest; progress_share() is what callers estimating time use.
-SIMPLIFY_SHARE = 0.8
-
-
-def progress_share(measuring: bool) -> float:
-    """The share of compute()'s progress fraction that simplification takes."""
-    return SIMPLIFY_SHARE if measuring else 1.0
-
-
-@dataclass
-class LodInput:
-    source_name: str
-    settings: LodSettings
-    data: mesh_io.MeshData
-    targets: list
-    core_options: core.Options
-    names: dict  # attribute keys given to the core -> what they stand for
-    warnings: list = field(default_factory=list)
-    importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
-    # Source Armature: the rig's sample poses (P, deform bones, 4, 4) in mesh coordinates,
-    # in the order of names["skin"] (core.skinning): the LODs' weights are fitted to them.
-    poses: Optional[np.ndarray] = None
-    # and further random poses, never fitted to, that coarse levels are checked in
-    # (skin_fit.skinned_levels)
-    check_poses: Optional[np.ndarray] = None
-    # A chain by deviation: each LOD's largest allowed measured distance, in the object's
-    # own (local) units, like the mesh data;
-    # ``targets`` are then the rungs the search measures (addon/pure/deviation_search.py,
-    # addon/pure/deviation_targets.py).
-    deviations: Optional[list] = None
-    # A part of an asset (addon/asset.py): its targets are the asset budget's share
-    # (set by LodJob before compute; [] when the split removes it at LOD1), deviations are
-    # the asset's, and a level the part cannot meet is left out rather than an error.
-    # ``reference_diagonal``: what "percent" means, in the object's own units (the asset's
-    # bounding-box diagonal; None: the mesh's own).
-    in_asset: bool = False
-    reference_diagonal: Optional[float] = None
-    # The source's material per slot (None: an empty slot), for the report's breakdown
-    # per material (addon/pure/level_deviation.py).
-    material_names: list = field(default_factory=list)
-    # Painted limits (addon/pure/limits.py): (the limit group's column of data.group_weights,
-    # the limit L in the object's units, or per level a tuple of them (pixels: set by
-    # compute), their size in scene units), or None.
-    limit: Optional[tuple] = None
-    # A part of an asset simplified with the others in one core run (LodJob, core.assembly):
-    # its levels, as that run left them (compute measures and writes them), or None.
-    chain: Optional[list] = None
-    # A part of an asset: the area samples a side its levels are measured with (its share
-    # of the asset's, deviation_search.part_samples), or None: its own size's.
-    part_samples: Optional[int] = None
-
-
-@dataclass
-class LodOutput:
-    input: LodInput
-    levels: list  # MeshData per LOD
-    reports: list  # dict per LOD
-    seconds: float
-
-
 # ----------------------------------------------------------------------------- prepare
 
 
@@ -464,238 +387,10 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     else:
         names = vertex_groups.group_names(obj.data)
         g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
-    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
-
-
-def region_word(source: str) -> str:
-    """What the report and the panel call the region of g >= 0.5 for an importance source:
-    "keyed" for Source Shape Keys (nobody painted it), else "painted"."""
-    return "keyed" if source == 'SHAPE_KEYS' else "painted"
-
-
-def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "painted") -> Optional[dict]:
-    """How dense the painted region (g >= 0.5) came out against the rest: the share of
-    each kept and their ratio, the density in/out relative to the input's (on a uniform
-    mesh simply the painted region's vertex density over the rest's). ``region``: what
-    the panel calls that region (region_word). None when nothing or everything is painted."""
-    painted = np.asarray(g) >= PAINTED
-    n_in = int(np.count_nonzero(painted))
-    n_out = len(painted) - n_in
-    if n_in == 0 or n_out == 0:
-        return None
-    kept_in = int(np.count_nonzero(painted[vertex_origin]))
-    kept_out = len(vertex_origin) - kept_in
-    share_in, share_out = kept_in / n_in, kept_out / n_out
-    return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
-            "rest_kept_percent": 100.0 * share_out,
-            "painted_density": share_in / share_out if share_out > 0 else float("inf"), "region": region}
+    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= imp.PAINTED))
 
 
 # ----------------------------------------------------------------------------- compute
-
-
-def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] = None) -> LodOutput:
-    """Simplify and measure (no bpy data access: safe in a worker thread).
-
-    progress(fraction in [0, 1]) is called during the run; returning False cancels it
-    (LodCancelled). Simplification is the first SIMPLIFY_SHARE, the deviation report the rest.
-    """
-    t0 = time.perf_counter()
-    measuring = lod_input.settings.measuring()
-    simplify_share = progress_share(measuring or lod_input.deviations is not None)
-
-    def report_progress(fraction):
-        if progress is not None and progress(min(max(fraction, 0.0), 1.0)) is False:
-            raise LodCancelled("cancelled")
-
-    data = lod_input.data
-
-    reached = [0.0]  # a search runs the core more than once: the bar never goes back
-
-    def simplify(targets, **options):
-        def step(f):
-            reached[0] = max(reached[0], simplify_share * f)
-            return progress is None or progress(reached[0]) is not False
-        return _simplify(lod_input, targets, step, **options)
-
-    built = {}  # output meshes already made (under a painted limit): {id(result): (result, mesh)}
-    if lod_input.in_asset and not lod_input.targets and lod_input.deviations is not None:
-        # A part too small to search (addon/asset.py): whole at every level of the asset.
-        measured = {}
-        whole = deviation_search.whole(lod_input, simplify, measured)
-        results, requested = [whole] * len(lod_input.deviations), list(lod_input.deviations)
-        lod_input.targets = [len(data.faces)] * len(results)
-        lod_input.warnings.append(f"too small ({len(data.faces)} triangles) for a LOD by deviation: "
-                                  f"kept whole at every level")
-    elif lod_input.in_asset and not lod_input.targets:
-        results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
-    elif lod_input.chain is not None:  # simplified with the rest of its asset (LodJob)
-        results, requested, measured = list(lod_input.chain), [None] * len(lod_input.chain), {}
-    elif lod_input.deviations is not None:
-        results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
-                                                                     simplify_share, _simplify)
-    elif lod_input.limit is not None:
-        # Painted limits with triangle targets: measured as the report measures, rerun
-        # tighter where a level came out beyond (addon/pure/limits.py).
-        first = _with_pixel_limit(lod_input, simplify) if lod_input.limit[1] is None else None
-        results, measured, built = _held_to_limit(lod_input, simplify, first)
-        requested = [None] * len(results)
-    else:
-        results = simplify(lod_input.targets)
-        requested = [None] * len(results)
-        measured = {}
-    levels, reports = [], []
-    diagonal = None
-    if lod_input.deviations is not None:
-        diagonal = lod_input.reference_diagonal or measure.bbox_diagonal(data.vertices, data.faces)
-    if lod_input.poses is not None:
-        results = skin_fit.skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
-                                          lambda: report_progress(simplify_share))
-    previous = None  # the last level's measurement (a repeated level is not measured again)
-    for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
-        report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        repeated = k > 1 and result is results[k - 2]
-        if repeated:  # a level repeated (an asset's part): one mesh
-            levels.append(levels[-1])
-        elif id(result) in built and built[id(result)][0] is result:  # (measured under a limit)
-            levels.append(built[id(result)][1])
-        else:
-            levels.append(rebuild.lod_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
-        stats = result.stats
-        entry = {
-            "level": k,
-            "target": int(target) if requested[k - 1] is None else None,
-            "triangles": int(len(result.faces)),
-            "vertices": int(len(result.vertices)),
-            "seconds": float(stats.seconds),
-            "stop_reason": stats.stop_reason,
-            "relaxation_step": int(stats.relaxation_step),
-            "removed_components": int(stats.removed_components),
-        }
-        if requested[k - 1] is not None:
-            entry["requested_deviation"] = requested[k - 1]
-            entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
-        if measuring or requested[k - 1] is not None:
-            rep = previous if repeated and previous is not None else \
-                _level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)
-            previous = rep
-            entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
-            # Per material and painted region, and the heat map when asked for.
-            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
-            entry.update(more)
-        else:
-            entry.update(core.quality_summary(result.vertices, result.faces))
-            if lod_input.limit is not None and id(result) in measured:
-                # Measuring off, but the chain was held to its painted limit as measured:
-                # how it kept the limit costs nothing more to report.
-                kept = limits.limit_entry(lod_input, measured[id(result)], k - 1)
-                if kept is not None:
-                    entry["limit"] = kept
-        if measuring and data.shape_keys:
-            # Each key's shape too: the LOD with the key at 1 against the source with it.
-            entry["shape_keys"] = reports[-1]["shape_keys"] if repeated and "shape_keys" in reports[-1] \
-                else key_deviation.level_key_deviations(data, levels[-1])
-        if lod_input.importance is not None:
-            density = importance_density(lod_input.importance, result.vertex_origin,
-                                         region_word(lod_input.settings.importance_source))
-            if density is not None:
-                entry["importance"] = density
-        if stats.stop_reason != core.STOP_TARGET and requested[k - 1] is None:
-            why = core.STOP_REASON_TEXT.get(stats.stop_reason, stats.stop_reason)
-            hint = "" if lod_input.settings.remove_small_components else \
-                " (Remove Small Parts lets it delete the smallest separate parts)"
-            lod_input.warnings.append(
-                f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {why}"
-                + (hint if stats.stop_reason == core.STOP_TOPOLOGY else ""))
-        reports.append(entry)
-    report_progress(1.0)
-    return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
-
-
-def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) -> tuple:
-    """(the chain under its painted limit, each level's measurement by id of its result,
-    and each level's output mesh: {id: (result, mesh)}).
-
-    The core holds the limit at its tracked points, and is given limits.CORE_SHARE of it;
-    the report's area samples fall between those points. Each level is measured here as
-    the report will measure it (the same output mesh, so the same samples: the report
-    reuses these measurements), and where a level used more than its limit the chain runs
-    again with that level's limits (and the ones before it) scaled down to
-    limits.RERUN_AIM of what was used, at most limits.RERUNS times."""
-    data, settings = lod_input.data, lod_input.settings
-    column, value, _ = lod_input.limit
-    weights = data.group_weights[:, column]
-    per_level = np.asarray(value if isinstance(value, tuple) else [value] * len(lod_input.targets), dtype=float)
-    rows = np.stack([limits.vertex_limits(weights, v) for v in per_level])
-    results = first if first is not None else simplify(lod_input.targets)
-    for attempt in range(limits.RERUNS + 1):
-        measured, built, used = {}, {}, []
-        for k, result in enumerate(results):
-            level = rebuild.lod_mesh(data, result, lod_input.names, settings.hard_edge_angle)
-            built[id(result)] = (result, level)
-            normals = None if data.corner_normals is None else (data.corner_normals, mesh_data.shading_normals(level))
-            rep = deviation_search.deviation_report(data, level, normals, lod_input.part_samples)  # (as _level_report)
-            measured[id(result)] = rep
-            kept = limits.level_report(data, rep["sampled"], column, per_level[k],
-                                       lod_input.reference_diagonal or rep["diagonal"])
-            used.append(0.0 if kept is None else kept["limit_used"])
-        scale = limits.rerun_scales(used)
-        if scale is None or attempt == limits.RERUNS:
-            return results, measured, built
-        rows = limits.scaled_rows(rows, scale)
-        results = simplify(lod_input.targets, vertex_max_error=rows)
-    return results, measured, built
-
-
-def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
-    """The chain under a painted limit in pixels at each LOD's switch distance
-    (addon/pure/limits.py): a first run without it gives each level's largest error ε_k
-    (measured, with the deviation search's quicker sampling), the limit is then
-    P / Pixel Error of it per level, and the chain runs again under those limits. Sets
-    the per-level limits into lod_input.limit."""
-    data, settings = lod_input.data, lod_input.settings
-    column, _, scale = lod_input.limit
-    free = simplify(lod_input.targets)
-    eps = [measure.surface_deviation(data.vertices, data.faces, r.vertices, r.faces,
-                                     n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"] for r in free]
-    per_level = limits.pixel_limits(eps, settings.limit_distance, settings.pixel_error)
-    weights = data.group_weights[:, column]
-    lod_input.limit = (column, tuple(float(v) for v in per_level), scale)
-    return simplify(lod_input.targets,
-                    vertex_max_error=np.stack([limits.vertex_limits(weights, v) for v in per_level]))
-
-
-def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict],
-                  part_samples: Optional[int] = None) -> dict:
-    """The report's measurement of ``level`` against the source ``data``: mesh_report at
-    report_samples, with the shading-normal deviation from the same closest points
-    (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
-    the level's report if a deviation search already made one; it gets the normal
-    deviation on its own (the search measured before the LOD's normals existed)."""
-    normals = None if data.corner_normals is None else (data.corner_normals, mesh_data.shading_normals(level))
-    if measured is None:
-        return deviation_search.deviation_report(data, level, normals, part_samples)
-    if normals is None or "normal_mean_degrees" in measured:
-        return measured
-    angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
-                                      n_samples=report_samples(len(data.faces), part_samples))
-    return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
-
-
-def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
-    """core.simplify_chain on the input, with the input's options (``options`` replacing
-    some); cancelling and the core's ValueError become LodCancelled and LodError."""
-    data = lod_input.data
-    try:
-        return core.simplify_chain(data.vertices, data.faces, targets,
-                                   core.Options.of(lod_input.core_options, **options), progress=progress)
-    except core.SimplifyCancelled as ex:
-        raise LodCancelled("cancelled") from ex
-    except ValueError as ex:
-        raise LodError(f'"{lod_input.source_name}": {ex}') from ex
-
-
-_fit_skin = skin_fit.fit_skin  # (kept here too: bench/skinned_ablation.py names it lod._fit_skin)
 
 
 # ----------------------------------------------------------------------------- commit

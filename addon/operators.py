@@ -17,7 +17,7 @@ import bpy
 from . import deviation_view, lod, vertex_groups
 from .pure.importance import expected_gain
 from .job import LodJob
-from .lod import LodCancelled, LodError, LodSettings
+from .pure.settings import LodCancelled, LodError, LodSettings
 from .props import settings_properties
 from .pure.settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000

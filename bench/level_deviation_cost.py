@@ -6,7 +6,7 @@ the level report's measurement (issue 34 §3).
 The source: a bumpy UV sphere of about 50,000 triangles made here (or ``--mesh``), with
 two materials (its two halves) and a painted vertex group (a cap). Its default chain
 (50 %, 25 %, 12.5 %) is made once without measuring; then each LOD is measured as the
-report measures it (lod._level_report's measurement: mesh_report with the shading
+report measures it (compute.level_report's measurement: mesh_report with the shading
 normals, at report_samples) with and without keeping its points (alternately, the
 fastest of ``--repeats`` kept), and the breakdown per material and region
 (addon/pure/level_deviation.py: what every measured LOD now pays) and the heat map (Deviation

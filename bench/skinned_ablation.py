@@ -37,6 +37,7 @@ import numpy as np  # noqa: E402
 import core  # noqa: E402
 import skinned_poses as sp  # noqa: E402
 from addon.pure import importance as imp  # noqa: E402
+from addon.pure import skin_fit  # noqa: E402
 from addon import lod  # noqa: E402
 from addon.pure.measure import surface_deviation  # noqa: E402
 from addon.pure.settings import LodSettings  # noqa: E402
@@ -89,7 +90,7 @@ def posed_distance(inp, skin_w, mats, world, result, weights, samples):
 
 def fitted(inp, sample, result):
     """The LOD's weights fitted to the sample poses, as Source Armature fits them."""
-    return lod._fit_skin(dataclasses.replace(inp, poses=sample), result)[0].vertex_attributes["skin"]
+    return skin_fit.fit_skin(dataclasses.replace(inp, poses=sample), result)[0].vertex_attributes["skin"]
 
 
 def oracle_options(inp, skin_w, mats, result):

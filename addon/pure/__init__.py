@@ -8,9 +8,12 @@ imports stay inside this package or reach ``core`` (through ``_core``). The Blen
 
 Modules (one idea each):
     _core           where ``core`` is imported from (extension vs. top-level layout)
+    phases          LodInput and LodOutput: what the LOD run's phases hand on (addon/lod.py)
+    compute         the compute phase: simplify and measure a LodInput into a LodOutput
     settings        SETTINGS, the one table of the settings, and what derives from it: LodSettings,
                     the command line's options; LodError, LodCancelled
-    importance      what the Importance settings mean as core parameters
+    importance      what the Importance settings mean as core parameters, and how dense the
+                    painted region came out (the report)
     edges           edge bookkeeping (feature edges, sharp edges, seams)
     mesh_data       MeshData, the arrays a mesh is read into and written from, and the
                     corner normals Blender will shade them with
@@ -26,6 +29,7 @@ Modules (one idea each):
     key_deviation   each shape key's deviation on a LOD, and the keys' offsets
     level_deviation where a LOD differs: per vertex (the heat map), per material and painted
                     region (the report), the posed numbers' summary
-    limits          painted limits: how far each LOD may move, per vertex
+    limits          painted limits: how far each LOD may move, per vertex; the runs that hold
+                    a chain to them
     switch_distances  the engines' switch distances from a chain's measured error
 """

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The arrays a mesh is read into and written from (mesh_io.py does both with bpy): a
-triangulated mesh and what it carries. Free of bpy, so what works on them (lod.py's
-compute, level_deviation.py) can be used and tested without Blender."""
+triangulated mesh and what it carries. Free of bpy, so what works on them (compute.py,
+level_deviation.py) can be used and tested without Blender."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
