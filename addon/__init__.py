@@ -6,6 +6,8 @@ of Blender, tests/test_core_purity.py). Modules here (one idea each):
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
     lod             generate_lods(): read, simplify, write, link (no UI)
+    rig             reading the rig: the deforming armature, its skin columns, sample poses
+    object_importance  an object's importance g from the settings' source, and its preview
     asset           several objects as one asset: its bounds, budget split and report
     job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)
     lod_group       the chain named for game engines: source "<name>_LOD0", the Unreal LOD group

@@ -18,7 +18,7 @@ import bpy
 from .pure import deviation_search
 from .pure import level_deviation
 from . import mesh_io
-from .lod import LEVEL_PROP, SOURCE_PROP, _scene_and_depsgraph
+from .lod import LEVEL_PROP, SOURCE_PROP
 
 
 def source_of(ob):
@@ -51,7 +51,7 @@ def paint(context, lod_ob, use_modifiers: bool = True) -> float:
     colour and distance attributes and the scale, as Deviation Colors does at
     generation); returns the scale (the distance shown red, mesh units)."""
     source = source_of(lod_ob)
-    _, depsgraph = _scene_and_depsgraph(context)
+    _, depsgraph = mesh_io.scene_and_depsgraph(context)
     data, _ = mesh_io.read_object(source, depsgraph, use_modifiers)
     level = mesh_io.read_mesh(lod_ob.data)
     report = deviation_search.deviation_report(data, level)

@@ -41,6 +41,7 @@ from .pure import deviation_search
 from .pure import level_deviation
 from .pure import measure
 from . import lod
+from . import object_importance
 from .pure._core import core
 from .pure.phases import LodInput, LodOutput
 from .pure.settings import LodCancelled, LodError, LodSettings
@@ -172,11 +173,11 @@ class LodJob:
 
     def _check_shape_keys(self, objects: list, per_object: list) -> None:
         """Source Shape Keys on several objects: those without keys were made without
-        importance (lod.NO_KEYS_NOTE); LodError when none of them has any."""
+        importance (object_importance.NO_KEYS_NOTE); LodError when none of them has any."""
         asked = [(ob.name, g) for ob, s, g in zip(objects, per_object, self._group_of)
                  if s.importance_source == 'SHAPE_KEYS']
         if len(objects) > 1 and asked and not any(self.inputs[g].data.shape_keys for _, g in asked):
-            raise LodError(lod.none_has_shape_keys([name for name, _ in asked]))
+            raise LodError(object_importance.none_has_shape_keys([name for name, _ in asked]))
 
     @property
     def object_inputs(self) -> list:

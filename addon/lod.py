@@ -33,7 +33,9 @@ from .pure import key_deviation
 from .pure import limits
 from .pure import measure
 from . import mesh_io
+from . import object_importance
 from . import posed_deviation
+from . import rig
 from .pure import switch_distances
 from . import vertex_groups
 from .pure.compute import compute
@@ -50,140 +52,12 @@ SWITCH_PROP_PREFIX = "lqlod_"
 # ----------------------------------------------------------------------------- prepare
 
 
-def _scene_and_depsgraph(context_or_scene):
-    if isinstance(context_or_scene, bpy.types.Scene):
-        scene = context_or_scene
-        if bpy.context.scene == scene and bpy.context.view_layer is not None:
-            depsgraph = bpy.context.evaluated_depsgraph_get()
-        else:
-            depsgraph = scene.view_layers[0].depsgraph
-            depsgraph.update()
-        return scene, depsgraph
-    return context_or_scene.scene, context_or_scene.evaluated_depsgraph_get()
-
-
-def armature_of(obj):
-    """The armature object deforming ``obj`` (Armature modifier, else armature parent)."""
-    for md in obj.modifiers:
-        if md.type == 'ARMATURE' and md.object is not None and md.object.type == 'ARMATURE':
-            return md.object
-    if obj.parent is not None and obj.parent.type == 'ARMATURE' and obj.parent_type == 'ARMATURE':
-        return obj.parent
-    return None
-
-
-def deform_columns(obj, group_names) -> tuple:
-    """(armature, column indices of the groups named after its deform bones) or (None, [])."""
-    arm = armature_of(obj)
-    if arm is None:
-        return None, []
-    deform = {b.name for b in arm.data.bones if b.use_deform}
-    return arm, [i for i, name in enumerate(group_names) if name in deform]
-
-
-def skinned_columns(obj, group_names) -> tuple:
-    """(armature, columns of the groups named after its deform bones); LodError naming
-    what is missing when ``obj`` is not skinned."""
-    arm = armature_of(obj)
-    if arm is None:
-        raise LodError(f'"{obj.name}" is not skinned: it has no Armature modifier or armature parent')
-    if not any(b.use_deform for b in arm.data.bones):
-        raise LodError(f'armature "{arm.name}" has no deform bones')
-    _, cols = deform_columns(obj, group_names)
-    if not cols:
-        raise LodError(
-            f'"{obj.name}" has no vertex groups named after the deform bones of "{arm.name}": '
-            f'weight it first (e.g. Parent > With Automatic Weights)')
-    return arm, cols
-
-
-def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
-    """The paper's (Sec. 5.3) importance g in [0, 1] from ``obj``'s deform-bone weights."""
-    _, cols = skinned_columns(obj, group_names)
-    return imp.skin_importance(np.asarray(group_weights)[:, cols])
-
-
-def rig_arrays(obj, arm) -> tuple:
-    """(bone names, rest matrices (B, 4, 4) in armature space, parent indices (B,),
-    the matrix taking ``obj``'s coordinates into ``arm``'s) for core.skinning."""
-    bones = list(arm.data.bones)
-    names = [b.name for b in bones]
-    rest = np.array([np.array(b.matrix_local, dtype=np.float64) for b in bones])
-    parents = np.array([names.index(b.parent.name) if b.parent is not None else -1 for b in bones])
-    to_armature = np.linalg.inv(np.array(arm.matrix_world, dtype=np.float64)) @ np.array(obj.matrix_world,
-                                                                                     dtype=np.float64)
-    return names, rest, parents, to_armature
-
-
-def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES, seed: int = 0) -> np.ndarray:
-    """(count, B, 4, 4) deform matrices of core.skinning's random sample poses of
-    ``obj``'s armature, in the mesh's own coordinates, one per deform-bone group in the
-    order of ``deform_columns``. Made from the bones' rest matrices: the scene's pose is
-    not read or touched. The first SAMPLE_POSES are the same whatever ``count``."""
-    arm, cols = skinned_columns(obj, group_names)
-    names, rest, parents, to_armature = rig_arrays(obj, arm)
-    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=count, seed=seed),
-                                          to_armature)
-    return poses[:, [names.index(group_names[c]) for c in cols]]
-
-
-def no_shape_keys(obj) -> str:
-    """The message for Source Shape Keys on an object without any."""
-    return (f'"{obj.name}" has no shape keys: add some (Object Data Properties > Shape Keys) '
-            f'or choose another importance source')
-
-
-def none_has_shape_keys(names: list) -> str:
-    """The message for Source Shape Keys on several objects none of which has any."""
-    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
-    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
-            f"(Object Data Properties > Shape Keys) or choose another importance source")
-
-
-# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
-# importance, this note (the command line's words for the same case, headless/sources.py).
-NO_KEYS_NOTE = "no importance (no shape keys)"
-
-
-def shape_key_importance_of(obj) -> np.ndarray:
-    """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
-    from its shape keys (importance.shape_key_importance); LodError when it has none."""
-    names = vertex_groups.group_names(obj.data)
-    weights = vertex_groups.read_weights(obj.data, names) if names else None
-    basis_name, use_relative, keys = mesh_io.read_shape_keys(obj.data)
-    if not keys:
-        raise LodError(no_shape_keys(obj))
-    return imp.shape_key_importance(key_deviation.key_offsets(keys, use_relative, names, weights, basis_name))
-
-
-def _importance(obj, settings, group_names, group_weights, key_offsets=None) -> Optional[np.ndarray]:
-    """Importance g in [0, 1] per vertex from the settings' source, or None (no source);
-    group_names and group_weights (n, g) are the mesh's vertex groups, ``key_offsets()``
-    what its shape keys move each vertex by (key_deviation.key_offsets; only called for
-    Source Shape Keys). LodError names what is missing."""
-    if settings.importance_source == 'VERTEX_GROUP':
-        name = settings.importance_group
-        if not name:
-            raise LodError("importance source is Vertex Group but no group is chosen")
-        if name not in group_names:
-            raise LodError(f'"{obj.name}" has no vertex group "{name}"')
-        return np.asarray(group_weights)[:, list(group_names).index(name)]
-    if settings.importance_source == 'ARMATURE_PAPER':
-        return skin_importance_of(obj, group_names, group_weights)
-    if settings.importance_source == 'SHAPE_KEYS':
-        offsets = key_offsets() if key_offsets is not None else np.zeros((0, 0, 3))
-        if len(offsets) == 0:
-            raise LodError(no_shape_keys(obj))
-        return imp.shape_key_importance(offsets)
-    return None  # 'ARMATURE' acts through the sample poses (prepare), not through g
-
-
 def _core_options(obj, settings, data, g, poses=None) -> tuple:
     names = {}
     vattr, cattr, normalize, uvs = {}, {}, [], []
     weights = data.group_weights
     if data.group_names:
-        _, skin_cols = deform_columns(obj, data.group_names)
+        _, skin_cols = rig.deform_columns(obj, data.group_names)
         other_cols = [i for i in range(len(data.group_names)) if i not in set(skin_cols)]
         if skin_cols:
             skin = weights[:, skin_cols]
@@ -273,7 +147,7 @@ def shared_mesh_key(source, settings: LodSettings):
         return None
     if settings.use_modifiers and mesh_io.has_geometry_modifiers(source):
         return None
-    if armature_of(source) is not None or settings.importance_source in ('ARMATURE', 'ARMATURE_PAPER'):
+    if rig.armature_of(source) is not None or settings.importance_source in ('ARMATURE', 'ARMATURE_PAPER'):
         return None
     if settings.bake_normals:
         return None
@@ -292,7 +166,7 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     rather than an error (LodJob raises one when none of the objects has keys)."""
     check_source(source)
     settings.validate()
-    _, depsgraph = _scene_and_depsgraph(context_or_scene)
+    _, depsgraph = mesh_io.scene_and_depsgraph(context_or_scene)
     data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
     if len(data.vertices) == 0:
         raise LodError(f'"{source.name}" has an empty mesh')
@@ -316,15 +190,15 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     if keys_optional and settings.importance_source == 'SHAPE_KEYS' and not data.shape_keys:
         g = None
-        warnings.append(NO_KEYS_NOTE)
+        warnings.append(object_importance.NO_KEYS_NOTE)
     else:
-        g = _importance(source, settings, data.group_names, data.group_weights,
+        g = object_importance.importance_of(source, settings, data.group_names, data.group_weights,
                         lambda: key_deviation.offsets_of(data))
     if g is not None and settings.importance_source == 'SHAPE_KEYS' and not np.any(g > 0):
         warnings.append("no shape key moves any vertex: Source Shape Keys has nothing to keep")
     poses = check_poses = None
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
-        every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
+        every = rig.sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     options, names = _core_options(source, settings, data, g, poses)
     limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
@@ -368,26 +242,6 @@ def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, referen
     diagonal = reference if reference is not None else measure.bbox_diagonal(data.vertices, data.faces)
     value = limits.limit_in_mesh_units(settings.limit_distance, settings.limit_unit == 'PERCENT', diagonal, scale)
     return column, value, scale
-
-
-def importance_preview(obj, settings: LodSettings) -> tuple:
-    """The effective importance of ``obj``'s vertices in [0, 1] (addon/pure/importance.py,
-    ``effective``) under ``settings``, read from the object's own mesh (not the modifier
-    result, so it can be written back as a vertex group), and how many vertices count as
-    painted (g >= 0.5). Raises LodError when the settings name no importance."""
-    if obj is None or getattr(obj, "type", None) != 'MESH':
-        raise LodError("Make a mesh object active")
-    if settings.importance_source == 'NONE':
-        raise LodError("Importance source is None: choose a vertex group, the armature or the shape keys first")
-    if settings.importance_source == 'ARMATURE':
-        raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
-                       "there is nothing to preview (Armature (Paper) has one)")
-    if settings.importance_source == 'SHAPE_KEYS':
-        g = shape_key_importance_of(obj)
-    else:
-        names = vertex_groups.group_names(obj.data)
-        g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
-    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= imp.PAINTED))
 
 
 # ----------------------------------------------------------------------------- compute
@@ -531,7 +385,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
     another's LOD meshes names them (``levels[i]["mesh"]``, ``shared_with``), says whose
     entry has the time (``shares``) and has ``seconds`` 0 (levels' too), so times add up.
     """
-    scene, _ = _scene_and_depsgraph(context_or_scene)
+    scene, _ = mesh_io.scene_and_depsgraph(context_or_scene)
     if sources is None:
         names = [out.input.source_name for out in outputs]
     else:
@@ -643,13 +497,13 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
         }
         if leader is not None:
             rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
-        elif out.input.settings.measuring() and armature_of(source) is not None:
+        elif out.input.settings.measuring() and rig.armature_of(source) is not None:
             posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces),
                           out.input.part_samples))
         reports.append(rep)
     if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
         try:
-            posed_deviation.measure_chains(scene, lambda: _scene_and_depsgraph(context_or_scene)[1], posed)
+            posed_deviation.measure_chains(scene, lambda: mesh_io.scene_and_depsgraph(context_or_scene)[1], posed)
         except Exception as ex:  # the LODs are made: a failed extra measurement is a note
             for source, *_ in posed:
                 next(r for r in reports if r["object"] == source.name)["warnings"].append(

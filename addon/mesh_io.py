@@ -325,3 +325,17 @@ def add_shape_keys(obj: bpy.types.Object, data: MeshData) -> None:
     for sk in data.shape_keys:
         if sk.relative_key in blocks:
             blocks[sk.name].relative_key = blocks[sk.relative_key]
+
+
+def scene_and_depsgraph(context_or_scene) -> tuple:
+    """(scene, evaluated depsgraph) of a context, or of a scene (its first view layer's
+    when it is not the context's)."""
+    if isinstance(context_or_scene, bpy.types.Scene):
+        scene = context_or_scene
+        if bpy.context.scene == scene and bpy.context.view_layer is not None:
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+        else:
+            depsgraph = scene.view_layers[0].depsgraph
+            depsgraph.update()
+        return scene, depsgraph
+    return context_or_scene.scene, context_or_scene.evaluated_depsgraph_get()

@@ -14,7 +14,7 @@ import numpy as np
 
 import bpy
 
-from . import deviation_view, lod, vertex_groups
+from . import deviation_view, lod, object_importance, vertex_groups
 from .pure.importance import expected_gain
 from .job import LodJob
 from .pure.settings import LodCancelled, LodError, LodSettings
@@ -324,7 +324,7 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
 
         def skin_importance():
             names = vertex_groups.group_names(ob.data)
-            return lod.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
+            return object_importance.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
 
         written = self.write_group(ob, IMPORTANCE_GROUP, skin_importance)
         if written is None:
@@ -364,7 +364,7 @@ class OBJECT_OT_line_quadric_lod_from_shape_keys(_ImportanceOperator, bpy.types.
         if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
-        written = self.write_group(ob, IMPORTANCE_GROUP, lambda: (lod.shape_key_importance_of(ob), None))
+        written = self.write_group(ob, IMPORTANCE_GROUP, lambda: (object_importance.shape_key_importance_of(ob), None))
         if written is None:
             return {'CANCELLED'}
         g = written[0]
@@ -389,7 +389,7 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         ob = context.active_object
         settings = scene_settings(context)
         settings = LodSettings.from_properties(settings) if settings is not None else LodSettings()
-        written = self.write_group(ob, PREVIEW_GROUP, lambda: lod.importance_preview(ob, settings))
+        written = self.write_group(ob, PREVIEW_GROUP, lambda: object_importance.importance_preview(ob, settings))
         if written is None:
             return {'CANCELLED'}
         effective, painted = written

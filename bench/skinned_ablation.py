@@ -38,7 +38,7 @@ import core  # noqa: E402
 import skinned_poses as sp  # noqa: E402
 from addon.pure import importance as imp  # noqa: E402
 from addon.pure import skin_fit  # noqa: E402
-from addon import lod  # noqa: E402
+from addon import lod, rig  # noqa: E402
 from addon.pure.measure import surface_deviation  # noqa: E402
 from addon.pure.settings import LodSettings  # noqa: E402
 from fig_skinned import world_arrays  # noqa: E402
@@ -54,8 +54,8 @@ def read_row(key, poses, seed):
         arm.animation_data_create()
     sp.rest(arm)
     inp = lod.prepare(bpy.context.scene, fox, LodSettings(ratio=row["ratio"], levels=1, measure_deviation=False))
-    sample = lod.sample_poses(fox, inp.data.group_names, poses, seed)
-    names, rest, parents, to_armature = lod.rig_arrays(fox, arm)
+    sample = rig.sample_poses(fox, inp.data.group_names, poses, seed)
+    names, rest, parents, to_armature = rig.rig_arrays(fox, arm)
     columns = [names.index(inp.data.group_names[c]) for c in inp.names["skin"]]
     evaluation = {"random": sp.random_poses(arm, sp.RANDOM_POSES), "clips": sp.clip_poses(arm, sp.clip_frames(5)),
                   "fig": sp.clip_poses(arm, sp.FIG_POSES)}[row["poses"]]

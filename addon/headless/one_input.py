@@ -58,7 +58,7 @@ def name_chains(entries: list, lod_group: bool, asset: dict = None) -> None:
     import bpy
 
     from .. import lod_group as naming
-    from ..lod import armature_of
+    from ..rig import armature_of
 
     chains = {}
     for entry in entries:

@@ -8,6 +8,7 @@ rather than failing its input.
 from __future__ import annotations
 
 from .. import lod
+from .. import rig
 from .errors import InputError
 
 
@@ -49,7 +50,7 @@ def importance_choice(objects, args) -> list:
     for ob in objects:
         if group and group in ob.vertex_groups:
             choices.append(('VERTEX_GROUP', group, None))
-        elif args.from_armature and lod.armature_of(ob) is not None:
+        elif args.from_armature and rig.armature_of(ob) is not None:
             choices.append(('ARMATURE_PAPER' if args.from_armature == "paper" else 'ARMATURE', "", None))
         elif getattr(args, "from_shape_keys", False) and has_shape_keys(ob):
             choices.append(('SHAPE_KEYS', "", None))

@@ -42,7 +42,7 @@ from matplotlib.collections import PolyCollection
 from mathutils.bvhtree import BVHTree
 
 import core
-from addon import lod
+from addon import lod, rig
 from addon.pure.measure import surface_deviation
 from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays, stdout_to_stderr
@@ -54,7 +54,7 @@ SUBDIV_LEVELS = 2
 def load_fox(path):
     with stdout_to_stderr():
         bpy.ops.import_scene.gltf(filepath=str(path))
-    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and lod.armature_of(ob) is not None)
+    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and rig.armature_of(ob) is not None)
     for ob in list(bpy.data.objects):  # the importer's camera, light and bone-shape helpers
         if ob.type in ("MESH", "CAMERA", "LIGHT") and ob != fox:
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -66,7 +66,7 @@ def load_fox(path):
     sub = fox.modifiers.new("Subdivision", "SUBSURF")
     sub.levels = sub.render_levels = SUBDIV_LEVELS
     fox.modifiers.move(len(fox.modifiers) - 1, 0)  # before the Armature modifier
-    return fox, lod.armature_of(fox)
+    return fox, rig.armature_of(fox)
 
 
 def world_arrays(ob):
@@ -107,7 +107,7 @@ def make_lod(fox, arm, label, source, **overrides):
     if level["stop_reason"] != core.STOP_TARGET:
         sys.exit(f"{label}: the add-on stopped early: {report['warnings']}")
     ob = bpy.data.objects[level["name"]]
-    if lod.armature_of(ob) is not arm:
+    if rig.armature_of(ob) is not arm:
         sys.exit(f"{ob.name} is not deformed by {arm.name}: the add-on did not copy the Armature modifier")
     del ob[lod.SOURCE_PROP]  # so the next generate_lods run does not replace this LOD
     ob.name = label

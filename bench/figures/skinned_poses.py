@@ -42,7 +42,7 @@ import bpy
 import humanoid
 import numpy as np
 
-from addon import lod
+from addon import lod, rig
 from addon.pure.measure import surface_deviation
 from addon.pure.settings import LodSettings
 from fig_skinned import load_fox, world_arrays
@@ -66,7 +66,7 @@ def import_fox(path, subdivide: bool, weld: bool):
         return fox, arm
     with stdout_to_stderr():
         bpy.ops.import_scene.gltf(filepath=str(path))
-    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and lod.armature_of(ob) is not None)
+    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and rig.armature_of(ob) is not None)
     for ob in list(bpy.data.objects):
         if ob.type in ("MESH", "CAMERA", "LIGHT") and ob != fox:
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -74,7 +74,7 @@ def import_fox(path, subdivide: bool, weld: bool):
         sub = fox.modifiers.new("Subdivision", "SUBSURF")
         sub.levels = sub.render_levels = 2
         fox.modifiers.move(len(fox.modifiers) - 1, 0)
-    return fox, lod.armature_of(fox)
+    return fox, rig.armature_of(fox)
 
 
 def rest(arm):
@@ -95,7 +95,7 @@ def make_lod(fox, arm, source, ratio, strength):
 
 
 def decimated(fox, triangles):
-    rest(lod.armature_of(fox))
+    rest(rig.armature_of(fox))
     m = len(world_arrays(fox)[1])
     ob = fox.copy()
     bpy.context.scene.collection.objects.link(ob)

@@ -70,21 +70,22 @@ def run() -> dict:
                 measure.surface_deviation(*source, *posed_triangles(lod_ob), n_samples=40_000)["mean_percent"])
     result["moved"] = min(moved)
     set_pose(rig, None)
-    result["forward_kinematics"] = forward_kinematics_check(rig, ob, lod)
+    result["forward_kinematics"] = forward_kinematics_check(rig, ob)
     return result
 
 
-def forward_kinematics_check(rig, ob, lod) -> list:
+def forward_kinematics_check(rig, ob) -> list:
     """The sample poses' maths (core.skinning) against Blender's own Armature deformation,
     with the armature moved, turned and scaled and the mesh given its own transform: the
     largest distance between the two posed meshes, relative to the mesh's size, per pose."""
     skinning = extension_module("addon.pure._core").core.skinning
+    rig_arrays = extension_module("addon.rig").rig_arrays
     vertex_groups = extension_module("addon.vertex_groups")
     rig.location, rig.rotation_euler, rig.scale = (0.4, -1.2, 0.3), (0.3, -0.5, 1.1), (1.7, 1.7, 1.7)
     ob.matrix_parent_inverse = ob.matrix_parent_inverse @ mathutils_matrix((0.2, 0.1, -0.3), (0.0, 0.0, 0.4))
     bpy.context.view_layer.update()
     rest_v = np.array([v.co for v in ob.data.vertices], dtype=np.float64)
-    names, rest, parents, to_armature = lod.rig_arrays(ob, rig)
+    names, rest, parents, to_armature = rig_arrays(ob, rig)
     weights = vertex_groups.read_weights(ob.data, names)  # columns in the bones' order
     out = []
     for seed in (21, 22):
