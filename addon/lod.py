@@ -27,8 +27,6 @@ from .pure._core import core
 from . import asset as asset_set
 from . import bake
 from .pure import deviation_targets
-from .pure import edges as edge_util
-from .pure import importance as imp
 from .pure import key_deviation
 from .pure import limits
 from .pure import measure
@@ -39,6 +37,7 @@ from . import rig
 from .pure import switch_distances
 from . import vertex_groups
 from .pure.compute import compute
+from .pure.options import mesh_options
 from .pure.phases import LodInput
 from .pure.settings import LodError, LodSettings
 from .pure.skin_fit import CHECK_POSES
@@ -50,71 +49,6 @@ LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
 # The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
 SWITCH_PROP_PREFIX = "lqlod_"
 # ----------------------------------------------------------------------------- prepare
-
-
-def _core_options(obj, settings, data, g, poses=None) -> tuple:
-    names = {}
-    vattr, cattr, normalize, uvs = {}, {}, [], []
-    weights = data.group_weights
-    if data.group_names:
-        _, skin_cols = rig.deform_columns(obj, data.group_names)
-        other_cols = [i for i in range(len(data.group_names)) if i not in set(skin_cols)]
-        if skin_cols:
-            skin = weights[:, skin_cols]
-            vattr["skin"] = skin
-            names["skin"] = skin_cols
-            # Renormalised only when the artist's weights were normalised to begin with.
-            if np.allclose(skin.sum(axis=1), 1.0, atol=1e-3):
-                normalize.append("skin")
-        if other_cols:
-            vattr["groups"] = weights[:, other_cols]
-            names["groups"] = other_cols
-    for i, layer in enumerate(data.colors):
-        key = f"color{i}"
-        (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
-    for i, sk in enumerate(data.shape_keys):
-        vattr[f"shape{i}"] = sk.offsets
-    for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
-        cattr[f"uv{i}"] = corners
-        uvs.append(f"uv{i}")
-    if data.custom_normals is not None:
-        # Carried like any corner attribute: a corner keeps (or interpolates) its source
-        # corners' normals, and a hard edge, where the normals differ, stays a split.
-        cattr["normal"] = data.custom_normals
-
-    feature_sets = []
-    if settings.preserve_sharp:
-        feature_sets.append((data.sharp_edges, settings.sharp_strength))
-    if settings.preserve_seams:
-        feature_sets.append((data.seam_edges, settings.seam_strength))
-    if settings.preserve_materials:
-        feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
-    feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
-
-    # Each setting's core option is named in its row of addon/pure/settings.py's SETTINGS.
-    options = core.Options(
-        # Shape keys count in the error too: the LOD stays close at each key's full value.
-        shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
-        line_weight=float(settings.line_weight),
-        min_quality=float(settings.min_quality),
-        feature_angle=float(settings.feature_angle) or None,
-        remove_small_components=bool(settings.remove_small_components),
-        boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0,
-        preserve_seams=bool(settings.preserve_seams),
-        vertex_attributes=vattr,
-        normalize_attributes=tuple(normalize),
-        corner_attributes=cattr,
-        uv_attributes=tuple(uvs),
-    )
-    if len(feature_edges):
-        options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
-    if g is not None:
-        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength,
-                                                          keys=settings.importance_source == 'SHAPE_KEYS'))
-    if poses is not None:
-        options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
-                                  pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
-    return options, names
 
 
 def check_source(source) -> None:
@@ -200,7 +134,8 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
         every = rig.sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
-    options, names = _core_options(source, settings, data, g, poses)
+    skin_columns = rig.deform_columns(source, data.group_names)[1] if data.group_names else []
+    options, names = mesh_options(settings, data, skin_columns, g, poses)
     limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
     if limit is not None and limit[1] is not None:  # (pixels: per level, from a first run: compute)
         column, value, _ = limit

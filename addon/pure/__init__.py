@@ -12,6 +12,8 @@ Modules (one idea each):
     compute         the compute phase: simplify and measure a LodInput into a LodOutput
     settings        SETTINGS, the one table of the settings, and what derives from it: LodSettings,
                     the command line's options; LodError, LodCancelled
+    options         the core.Options of a run: the settings table's fields (core_options_of),
+                    the mesh's attributes, feature edges, importance and poses (mesh_options)
     importance      what the Importance settings mean as core parameters, and how dense the
                     painted region came out (the report)
     edges           edge bookkeeping (feature edges, sharp edges, seams)
