@@ -5,7 +5,10 @@ What needs no Blender lives in ``pure/`` (its __init__ lists its modules; tests 
 of Blender, tests/test_core_purity.py). Modules here (one idea each):
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
-    lod             generate_lods(): read, simplify, write, link (no UI)
+    lod             the LOD run's orchestrator: prepare (read), compute, commit; generate_lods()
+    commit          the commit phase: LOD meshes and objects written and linked, switch
+                    numbers set, normals baked, skinned chains measured posed
+    lod_objects     how LOD objects are marked (source, level, switch numbers) and found
     rig             reading the rig: the deforming armature, its skin columns, sample poses
     object_importance  an object's importance g from the settings' source, and its preview
     asset           several objects as one asset: its bounds, budget split and report

@@ -18,7 +18,7 @@ import bpy
 from .pure import deviation_search
 from .pure import level_deviation
 from . import mesh_io
-from .lod import LEVEL_PROP, SOURCE_PROP
+from .lod_objects import LEVEL_PROP, SOURCE_PROP
 
 
 def source_of(ob):

@@ -43,6 +43,7 @@ from mathutils.bvhtree import BVHTree
 
 import core
 from addon import lod, rig
+from addon.lod_objects import SOURCE_PROP
 from addon.pure.measure import surface_deviation
 from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays, stdout_to_stderr
@@ -109,7 +110,7 @@ def make_lod(fox, arm, label, source, **overrides):
     ob = bpy.data.objects[level["name"]]
     if rig.armature_of(ob) is not arm:
         sys.exit(f"{ob.name} is not deformed by {arm.name}: the add-on did not copy the Armature modifier")
-    del ob[lod.SOURCE_PROP]  # so the next generate_lods run does not replace this LOD
+    del ob[SOURCE_PROP]  # so the next generate_lods run does not replace this LOD
     ob.name = label
     return ob, level["triangles"]
 

@@ -43,6 +43,7 @@ import humanoid
 import numpy as np
 
 from addon import lod, rig
+from addon.lod_objects import SOURCE_PROP
 from addon.pure.measure import surface_deviation
 from addon.pure.settings import LodSettings
 from fig_skinned import load_fox, world_arrays
@@ -89,7 +90,7 @@ def make_lod(fox, arm, source, ratio, strength):
     report = lod.generate_lods(bpy.context.scene, fox, settings)
     level = report["levels"][0]
     ob = bpy.data.objects[level["name"]]
-    del ob[lod.SOURCE_PROP]  # keep it out of the next run's cleanup
+    del ob[SOURCE_PROP]  # keep it out of the next run's cleanup
     ob.name = f"LOD {source}"
     return ob, level["triangles"]
 

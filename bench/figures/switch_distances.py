@@ -37,7 +37,7 @@ import numpy as np
 from matplotlib.patches import Rectangle
 from mathutils import Matrix, Vector
 
-from addon import lod as lod_module
+from addon import lod_objects
 from addon.pure import switch_distances
 from addon.headless import arguments
 from addon.job import LodJob
@@ -109,7 +109,7 @@ def make_chain(source, args) -> list:
     for i, level in enumerate(levels):
         ob = bpy.data.objects[level["name"]]
         for key in ("switch_distance", "deviation"):
-            level[key] = float(ob[lod_module.switch_prop(key)])
+            level[key] = float(ob[lod_objects.switch_prop(key)])
         if i and not math.isclose(level["switch_distance"], report["levels"][i - 1]["switch_distance"]):
             raise RuntimeError(f"{level['name']}: the custom property and the report disagree")
     levels[0]["cull_distance"] = float(report["switch"]["cull_distance"])

@@ -34,6 +34,7 @@ def run() -> dict:
     lod = extension_module("addon.lod")
     measure = extension_module("addon.pure.measure")
     LodSettings = extension_module("addon.pure.settings").LodSettings
+    SOURCE_PROP = extension_module("addon.lod_objects").SOURCE_PROP
     result = {}
     remove_all_objects()
     rig = three_bone_rig()
@@ -50,7 +51,7 @@ def run() -> dict:
         report = lod.generate_lods(bpy.context.scene, ob, LodSettings(
             ratio=ratio, levels=1, importance_source=source, measure_deviation=False))
         lod_ob = bpy.data.objects[report["levels"][0]["name"]]
-        del lod_ob[lod.SOURCE_PROP]  # keep it out of the next run's cleanup
+        del lod_ob[SOURCE_PROP]  # keep it out of the next run's cleanup
         lod_ob.name = key
         lods[key] = lod_ob
     result["triangles"] = {k: len(posed_triangles(L)[1]) for k, L in lods.items()}
