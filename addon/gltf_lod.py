@@ -11,7 +11,7 @@ hands the class out lazily); the command line run through the pip ``bpy`` module
 not an enabled add-on, so headless/scene_files.py lists it for the length of its export.
 
 What the hooks write, for each chain whose objects are all exported and were measured
-(lod.py's custom properties, switch_distances.py's numbers), per the MSFT_lod README
+(lod_objects.py's custom properties, switch_distances.py's numbers), per the MSFT_lod README
 (KhronosGroup/glTF extensions/2.0/Vendor/MSFT_lod):
     LOD0's node  extensions.MSFT_lod = {"ids": [node of LOD1, ..., node of LODn]}
                  extras.MSFT_screencoverage = [c_0, ..., c_n] (c_n: below it, nothing)

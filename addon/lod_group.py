@@ -105,7 +105,7 @@ def group_chain(context, base: str, chain: list):
     scene = context.scene
     source = chain[0]
     name = base + LOD_GROUP_SUFFIX
-    # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
+    # Where commit.py puts the LODs' collection: LOD0's first collection in this scene.
     collection = next((c for c in source.users_collection if lod_objects.in_scene(c, scene)), scene.collection)
     empty = _empty(context, name, collection)
     empty["fbx_type"] = "LodGroup"

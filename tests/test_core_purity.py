@@ -128,7 +128,8 @@ def test_core_imports_are_pure():
     assert not problems, "core/ must stay pure NumPy:\n" + "\n".join(problems)
 
 
-@pytest.mark.parametrize("source", [
+# Sources each checker must flag, and sources it must accept.
+OFFENDING = {"core": [
     "import bpy",
     "import bpy.types",
     "from mathutils import Vector",
@@ -143,12 +144,22 @@ def test_core_imports_are_pure():
     "from addon import ops",
     "import scipy.sparse",
     "from .. import addon",
-])
-def test_checker_flags_offending_source(source):
-    assert import_violations(source), f"checker missed: {source!r}"
-
-
-@pytest.mark.parametrize("source", [
+], "pure": [
+    "import bpy",
+    "from mathutils.bvhtree import BVHTree",
+    "def f():\n    import bmesh",
+    "import importlib\nbpy = importlib.import_module('bpy')",
+    "from .. import lod",
+    "from .. import bvh, mesh_io",
+    "from ..mesh_io import read_object",
+    "from ..headless import report",
+    "from ... import addon",
+    "from .... import core",
+    "import core",
+    "import addon.pure.measure",
+    "import scipy",
+]}
+CLEAN = {"core": [
     "import numpy as np",
     "from numpy.linalg import eigh",
     "from . import result",
@@ -156,9 +167,29 @@ def test_checker_flags_offending_source(source):
     "import math, heapq, time\nfrom dataclasses import dataclass",
     "from __future__ import annotations",
     "from typing import TYPE_CHECKING",
-])
-def test_checker_accepts_clean_source(source):
-    assert import_violations(source) == []
+], "pure": [
+    "import numpy as np",
+    "from . import measure",
+    "from . import deviation_targets, switch_distances",
+    "from .settings import LodError",
+    "from ._core import core",
+    "from ... import core",
+    "from ...core import options",
+    "from .. import pure",
+    "def f():\n    from .mesh_data import ColorLayer",
+    "from __future__ import annotations\nimport math, zlib",
+]}
+CHECKERS = {"core": import_violations, "pure": pure_import_violations}
+
+
+@pytest.mark.parametrize("checker,source", [(c, s) for c, sources in OFFENDING.items() for s in sources])
+def test_checker_flags_offending_source(checker, source):
+    assert CHECKERS[checker](source), f"{checker} checker missed: {source!r}"
+
+
+@pytest.mark.parametrize("checker,source", [(c, s) for c, sources in CLEAN.items() for s in sources])
+def test_checker_accepts_clean_source(checker, source):
+    assert CHECKERS[checker](source) == []
 
 
 def test_relative_import_depth_follows_package_depth():
@@ -185,39 +216,6 @@ def test_pure_imports_are_free_of_blender():
     assert not problems, "addon/pure/ must stay free of Blender:\n" + "\n".join(problems)
 
 
-@pytest.mark.parametrize("source", [
-    "import bpy",
-    "from mathutils.bvhtree import BVHTree",
-    "def f():\n    import bmesh",
-    "import importlib\nbpy = importlib.import_module('bpy')",
-    "from .. import lod",
-    "from .. import bvh, mesh_io",
-    "from ..mesh_io import read_object",
-    "from ..headless import report",
-    "from ... import addon",
-    "from .... import core",
-    "import core",
-    "import addon.pure.measure",
-    "import scipy",
-])
-def test_pure_checker_flags_offending_source(source):
-    assert pure_import_violations(source), f"checker missed: {source!r}"
-
-
-@pytest.mark.parametrize("source", [
-    "import numpy as np",
-    "from . import measure",
-    "from . import deviation_targets, switch_distances",
-    "from .settings import LodError",
-    "from ._core import core",
-    "from ... import core",
-    "from ...core import options",
-    "from .. import pure",
-    "def f():\n    from .mesh_data import ColorLayer",
-    "from __future__ import annotations\nimport math, zlib",
-])
-def test_pure_checker_accepts_clean_source(source):
-    assert pure_import_violations(source) == []
 
 
 def test_only_the_gateway_imports_core_absolutely():
@@ -226,25 +224,26 @@ def test_only_the_gateway_imports_core_absolutely():
     assert pure_import_violations("import bpy", gateway=True)
 
 
-def test_importing_the_pure_package_loads_no_blender_module():
-    # Every module of addon/pure in a clean interpreter (the add-on's package, which
-    # importing them runs, included): no Blender module may come with them.
-    modules = [f"addon.pure.{p.stem}" for p in pure_files() if p.name != "__init__.py"]
+def blender_modules_loaded_by(modules: list) -> tuple:
+    """(exit code, the Blender modules loaded, stderr's end) of a clean interpreter that
+    imports ``modules``: what static analysis cannot catch (an import hidden behind a
+    helper module) shows here."""
     code = ("import sys, importlib; sys.path.insert(0, sys.argv[1]); "
             f"[importlib.import_module(m) for m in {modules!r}]; "
             f"bad = sorted(m for m in sys.modules if m.split('.')[0] in {sorted(BLENDER_MODULES)!r}); "
             "print(','.join(bad)); sys.exit(1 if bad else 0)")
     proc = subprocess.run([sys.executable, "-c", code, str(REPO_ROOT)],
                           capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0, f"importing addon/pure loaded: {proc.stdout.strip()} {proc.stderr[-2000:]}"
+    return proc.returncode, proc.stdout.strip(), proc.stderr[-2000:]
+
+
+def test_importing_the_pure_package_loads_no_blender_module():
+    # Every module of addon/pure (the add-on's package, which importing them runs, included).
+    code, loaded, err = blender_modules_loaded_by([f"addon.pure.{p.stem}" for p in pure_files()
+                                                   if p.name != "__init__.py"])
+    assert code == 0, f"importing addon/pure loaded: {loaded} {err}"
 
 
 def test_importing_core_loads_no_blender_module():
-    # Catches what static analysis cannot (an import hidden behind a helper module):
-    # a clean interpreter imports core and must not have pulled in any Blender module.
-    code = ("import sys; sys.path.insert(0, sys.argv[1]); import core; "
-            f"bad = sorted(m for m in sys.modules if m.split('.')[0] in {sorted(BLENDER_MODULES)!r}); "
-            "print(','.join(bad)); sys.exit(1 if bad else 0)")
-    proc = subprocess.run([sys.executable, "-c", code, str(REPO_ROOT)],
-                          capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0, f"importing core loaded: {proc.stdout.strip()} {proc.stderr[-2000:]}"
+    code, loaded, err = blender_modules_loaded_by(["core"])
+    assert code == 0, f"importing core loaded: {loaded} {err}"

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Where each LOD may switch in, from its measured deviation, in every engine's terms.
 
-No bpy here: floats and NumPy arrays in and out (lod.py passes Blender's numbers in).
+No bpy here: floats and NumPy arrays in and out (commit.py passes Blender's numbers in).
 
 The idea: LOD i differs from the source by at most ε_i (its measured two-sided Hausdorff
 distance, scene units). Seen from distance D with a perspective camera of vertical field
