@@ -25,7 +25,7 @@ weights, 6,016 triangles, 19 bones):
   H1 25 %, 5 random poses
   H2 10 %, 5 random poses
   H3, H4  the same at Subdivision level 1 (1,504 triangles), 25 % and 10 %: 20 and 8
-          triangles a bone, where the poses need checking (addon/lod.py)
+          triangles a bone, where the poses need checking (addon/pure/skin_fit.py)
 Random poses: every bone turned about a random axis by an angle uniform in [0, 40 deg]
 (pose-bone quaternions, seeds 101..105). Without Fox.gltf only the humanoid's rows run.
 --sources takes further add-on importance sources by their enum name (e.g. a new
