@@ -1,36 +1,40 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Everything that touches bpy: the panel, the operators, mesh I/O and LOD objects.
+"""The Blender side: the panel, the operators, mesh I/O, LOD objects and the command line.
 
-Modules (one idea each):
-    _core           where ``core`` is imported from (extension vs. top-level layout)
-    edges           edge bookkeeping in plain NumPy (feature edges, sharp edges, seams)
+What needs no Blender lives in ``pure/`` (its __init__ lists its modules; tests keep it free
+of Blender, tests/test_core_purity.py). Modules here (one idea each):
     vertex_groups   vertex-group weights in bulk (no per-vertex loops)
-    mesh_data       MeshData, the arrays a mesh is read into and written from (no bpy)
     mesh_io         Blender meshes <-> NumPy arrays (foreach_get / foreach_set)
-    settings        SETTINGS, the one table of the settings, and what derives from it: LodSettings,
-                    the command line's options; LodError, LodCancelled (no bpy)
-    importance      what the Importance settings mean as core parameters
-    lod             generate_lods(): read, simplify, write, link (no UI)
-    deviation_search  LOD levels by measured deviation: the core's tracked bound, the lean
-                    run, then the ladder of rungs refined between rungs
-    skin_fit        LOD skin weights fitted to the rig's sample poses; coarse levels checked
-                    against a run without the poses
+    lod             the LOD run's orchestrator: prepare (read), compute, commit; generate_lods()
+    commit          the commit phase: LOD meshes and objects written and linked, switch
+                    numbers set, normals baked, skinned chains measured posed
+    lod_objects     how LOD objects are marked (source, level, switch numbers) and found
+    rig             reading the rig: the deforming armature, its skin columns, sample poses
+    object_importance  an object's importance g from the settings' source, and its preview
+    asset           several objects as one asset: its bounds, budget split and report
     job             LodJob: the LOD run of the panel and the command line (worker thread, Esc cancel)
     lod_group       the chain named for game engines: source "<name>_LOD0", the Unreal LOD group
+    gltf_lod        the glTF exporter's hook: MSFT_lod and the switch numbers
+    bake            Bake Normals: each LOD's lost detail baked into a normal map
     props           the settings as Blender properties (operator and scene share them)
     operators       Generate LODs, Paint Importance, Importance from Armature, Show Deviation
     panel           the sidebar panel
-    measure         surface deviation and the LOD report numbers
-    level_deviation where a LOD differs: per vertex (the heat map), per material and painted
-                    region (the report), the posed numbers' summary (no bpy)
+    sample          the built-in sample (a mesh with painted importance)
+    bvh             the closest-point trees (Blender's mathutils) pure/measure.py queries
     posed_deviation the posed distance of skinned LODs over the armature's own actions
     deviation_view  Show Deviation: a LOD's heat map in the viewport, and back
     cli             the command line's entry point (blender -c line_quadric_lod, -P, python <checkout>)
     headless/       the command line's parts (its __init__ lists them)
 
-The submodules that need bpy are imported inside register(), so the pure-NumPy parts
-(edges, settings, importance, mesh_data, level_deviation) import without Blender.
+The submodules that need bpy are imported inside register(), so ``pure/`` imports
+without Blender.
 """
+from . import bvh as _bvh
+from .pure.measure import set_tree_builder as _set_tree_builder
+
+# The deviation measurement queries Blender's closest-point trees (mathutils, imported
+# only when a tree is built): wherever the package is imported, measure.py has them.
+_set_tree_builder(_bvh.build_tree)
 
 _classes = []
 _cli_commands = []  # handles from bpy.utils.register_cli_command

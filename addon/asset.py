@@ -22,9 +22,9 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ._core import core
-from . import importance, key_deviation, switch_distances
-from .settings import LodSettings
+from .pure._core import core
+from .pure import importance, key_deviation, switch_distances
+from .pure.settings import LodSettings
 
 
 # On every object of an asset's chains, sources too: the asset's name (addon/gltf_lod.py
@@ -117,7 +117,7 @@ def key_importance(inputs: list, matrices: list) -> None:
     """Source Shape Keys over an asset: every part's importance from one robust maximum of
     the keys' motion over all parts (importance.motion_reference), in scene units through
     the largest scale each part is drawn at, rather than each mesh's own. ``inputs``: one
-    lod.LodInput per part (a mesh), ``matrices``: per part, its objects' world matrices
+    phases.LodInput per part (a mesh), ``matrices``: per part, its objects' world matrices
     (as split_budget). Sets each keyed part's ``importance`` and core options; parts
     without Source Shape Keys, or without keys, are left alone.
 
@@ -148,7 +148,7 @@ FLOOR_SHARE = 0.5
 def split_budget(inputs: list, matrices: list, totals: list,
                  progress: Optional[Callable[[float], object]] = None) -> np.ndarray:
     """(levels, parts) triangle counts: the asset's ``totals`` (triangles drawn) spread
-    over the parts at equal error (core.budget). ``inputs``: one lod.LodInput per part
+    over the parts at equal error (core.budget). ``inputs``: one phases.LodInput per part
     (a mesh); ``matrices``: per part, the world matrix of each object drawing it.
 
     Each part's error curve comes from its own run (its options, attributes and rig),
@@ -195,7 +195,7 @@ def part_targets(counts: np.ndarray, faces: int) -> tuple:
 
 def level_deviations(chains: list) -> Optional[list]:
     """The asset's measured deviation per level, LOD0 first (0.0), scene units: per level
-    the largest over the parts that have it. ``chains``: (lod.LodOutput, world scale) per
+    the largest over the parts that have it. ``chains``: (phases.LodOutput, world scale) per
     object. None when a level was not measured."""
     eps = [0.0]
     diagonals = {}  # id(output) -> its source's diagonal (objects sharing a mesh share it)

@@ -2,7 +2,7 @@
 """Show Deviation: a LOD's heat map in the 3D viewport, in one click, and back.
 
 The active LOD object (one Generate LODs made: it names its source in ``lod_source``)
-gets the heat map of addon/level_deviation.py if its mesh does not carry it yet
+gets the heat map of addon/pure/level_deviation.py if its mesh does not carry it yet
 (measured now, as the report measures it: the source read as Generate reads it, with
 the panel's Apply Modifiers), the colour attribute is made its mesh's active one, and
 the 3D viewports switch to Solid shading coloured by the active attribute. What the
@@ -15,10 +15,10 @@ import json
 
 import bpy
 
-from . import deviation_search
-from . import level_deviation
+from .pure import deviation_search
+from .pure import level_deviation
 from . import mesh_io
-from .lod import LEVEL_PROP, SOURCE_PROP, _scene_and_depsgraph
+from .lod_objects import LEVEL_PROP, SOURCE_PROP
 
 
 def source_of(ob):
@@ -51,7 +51,7 @@ def paint(context, lod_ob, use_modifiers: bool = True) -> float:
     colour and distance attributes and the scale, as Deviation Colors does at
     generation); returns the scale (the distance shown red, mesh units)."""
     source = source_of(lod_ob)
-    _, depsgraph = _scene_and_depsgraph(context)
+    _, depsgraph = mesh_io.scene_and_depsgraph(context)
     data, _ = mesh_io.read_object(source, depsgraph, use_modifiers)
     level = mesh_io.read_mesh(lod_ob.data)
     report = deviation_search.deviation_report(data, level)

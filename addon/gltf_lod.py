@@ -11,7 +11,7 @@ hands the class out lazily); the command line run through the pip ``bpy`` module
 not an enabled add-on, so headless/scene_files.py lists it for the length of its export.
 
 What the hooks write, for each chain whose objects are all exported and were measured
-(lod.py's custom properties, switch_distances.py's numbers), per the MSFT_lod README
+(lod_objects.py's custom properties, switch_distances.py's numbers), per the MSFT_lod README
 (KhronosGroup/glTF extensions/2.0/Vendor/MSFT_lod):
     LOD0's node  extensions.MSFT_lod = {"ids": [node of LOD1, ..., node of LODn]}
                  extras.MSFT_screencoverage = [c_0, ..., c_n] (c_n: below it, nothing)
@@ -37,7 +37,7 @@ import bpy
 
 import numpy as np
 
-from . import lod
+from . import lod_objects
 from .asset import ASSET_PROP  # on an asset's objects: its name
 from .lod_group import BASE_NAME_PROP
 
@@ -54,10 +54,10 @@ def chain_key(ob):
     """(name of the chain's source before any renaming, level) of a measured chain member,
     or None for an object that is none."""
     needed = ("switch_distance", "msft_screen_coverage", *GODOT_EXTRAS.values())
-    if any(lod.switch_prop(name) not in ob for name in needed):
+    if any(lod_objects.switch_prop(name) not in ob for name in needed):
         return None  # not a measured chain member (or a hand-edited one missing its numbers)
-    if lod.LEVEL_PROP in ob and lod.SOURCE_PROP in ob:
-        return ob[lod.SOURCE_PROP], int(ob[lod.LEVEL_PROP])
+    if lod_objects.LEVEL_PROP in ob and lod_objects.SOURCE_PROP in ob:
+        return ob[lod_objects.SOURCE_PROP], int(ob[lod_objects.LEVEL_PROP])
     base = ob.get(BASE_NAME_PROP)
     return (base if isinstance(base, str) else ob.name), 0
 
@@ -87,10 +87,10 @@ class glTF2ExportUserExtension:
         if isinstance(asset, str) and asset:
             self.asset_of[key[0]] = asset
         self.coverage.setdefault(key[0], {})[key[1]] = float(
-            blender_object[lod.switch_prop("msft_screen_coverage")])
+            blender_object[lod_objects.switch_prop("msft_screen_coverage")])
         extras = gltf2_node.extras if isinstance(gltf2_node.extras, dict) else {}
         for extra, prop in GODOT_EXTRAS.items():
-            extras[extra] = float(blender_object[lod.switch_prop(prop)])
+            extras[extra] = float(blender_object[lod_objects.switch_prop(prop)])
         gltf2_node.extras = extras
 
     def gather_gltf_hook(self, active_scene_idx, scenes, animations, export_settings):
@@ -127,7 +127,7 @@ class glTF2ExportUserExtension:
         for base, nodes in self.chains.items():
             if base in in_assets:
                 continue  # its asset switches as a whole
-            n_lods = len(lod.previous_lods(base))
+            n_lods = len(lod_objects.previous_lods(base))
             if n_lods == 0 or sorted(nodes) != list(range(n_lods + 1)) or \
                     any(id(node) not in index for node in nodes.values()):
                 export_settings['log'].warning(

@@ -37,11 +37,14 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import asset as asset_set
-from . import deviation_search
-from . import level_deviation
-from . import measure
+from .pure import deviation_search
+from .pure import level_deviation
+from .pure import measure
 from . import lod
-from .settings import LodError
+from . import object_importance
+from .pure._core import core
+from .pure.phases import LodInput, LodOutput
+from .pure.settings import LodCancelled, LodError, LodSettings
 
 
 # Source Shape Keys over an asset: one reference for the keys' motion over all parts, in
@@ -81,18 +84,18 @@ class ObjectObserver:
     def splitting(self, parts: int, targets: list) -> None:
         """An asset's budget, ``targets`` per level, is being split over ``parts`` groups."""
 
-    def started(self, lod_input: lod.LodInput) -> None:
+    def started(self, lod_input: LodInput) -> None:
         pass
 
     def progress(self, fraction: float) -> None:
         """How far the current object is, 0 to 1 (lod.compute's fraction)."""
 
-    def finished(self, lod_output: lod.LodOutput) -> None:
+    def finished(self, lod_output: LodOutput) -> None:
         pass
 
 
-def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple, asset=None,
-             keys_optional: bool = False) -> lod.LodInput:
+def _prepare(context, obj, settings: LodSettings, chain_labels: tuple, asset=None,
+             keys_optional: bool = False) -> LodInput:
     try:
         return lod.prepare(context, obj, settings, chain_labels, asset, keys_optional)
     except LodError as ex:
@@ -106,7 +109,7 @@ def _prepare(context, obj, settings: lod.LodSettings, chain_labels: tuple, asset
 
 class LodJob:
     def __init__(self, context, objects,
-                 settings: Union[lod.LodSettings, Sequence[lod.LodSettings]], chain_labels: tuple = (),
+                 settings: Union[LodSettings, Sequence[LodSettings]], chain_labels: tuple = (),
                  asset_name: Optional[str] = None):
         """``settings``: one for every object, or a sequence with one per object;
         ``chain_labels``: how messages name an explicit chain (lod.prepare); ``asset_name``:
@@ -170,11 +173,11 @@ class LodJob:
 
     def _check_shape_keys(self, objects: list, per_object: list) -> None:
         """Source Shape Keys on several objects: those without keys were made without
-        importance (lod.NO_KEYS_NOTE); LodError when none of them has any."""
+        importance (object_importance.NO_KEYS_NOTE); LodError when none of them has any."""
         asked = [(ob.name, g) for ob, s, g in zip(objects, per_object, self._group_of)
                  if s.importance_source == 'SHAPE_KEYS']
         if len(objects) > 1 and asked and not any(self.inputs[g].data.shape_keys for _, g in asked):
-            raise LodError(lod.none_has_shape_keys([name for name, _ in asked]))
+            raise LodError(object_importance.none_has_shape_keys([name for name, _ in asked]))
 
     @property
     def object_inputs(self) -> list:
@@ -228,14 +231,14 @@ class LodJob:
             return False
         first = self.inputs[0].core_options
         return all(getattr(i.core_options, name) == getattr(first, name)
-                   for i in self.inputs for name in lod.core.assembly.SHARED)
+                   for i in self.inputs for name in core.assembly.SHARED)
 
     def _run_together(self, progress) -> float:
         """Simplify every part in one core run to the asset's targets (core.assembly: each
         part in scene units through the largest scale it is drawn at, counted once per
         object drawing it) and give each part its levels (LodInput.chain); returns the
         share of the progress it took."""
-        assembly = lod.core.assembly
+        assembly = core.assembly
 
         def step(fraction):
             self.fraction = self.TOGETHER_SHARE * fraction
@@ -248,9 +251,9 @@ class LodJob:
                  for i, placed in zip(self.inputs, self._matrices)]
         try:
             vertices, faces, options, layout = assembly.combine(parts)
-            results = lod.core.simplify_chain(vertices, faces, self._asset_targets, options, progress=step)
-        except lod.core.SimplifyCancelled as ex:
-            raise lod.LodCancelled("cancelled") from ex
+            results = core.simplify_chain(vertices, faces, self._asset_targets, options, progress=step)
+        except core.SimplifyCancelled as ex:
+            raise LodCancelled("cancelled") from ex
         except ValueError as ex:
             raise LodError(f"simplifying the asset's {len(parts)} meshes together: {ex}") from ex
         per_level = [assembly.split(r, layout) for r in results]
@@ -269,8 +272,8 @@ class LodJob:
             if note:
                 lod_input.warnings.append(note)
         for k, r in enumerate(results, start=1):
-            if r.stats.stop_reason != lod.core.STOP_TARGET:
-                why = lod.core.STOP_REASON_TEXT.get(r.stats.stop_reason, r.stats.stop_reason)
+            if r.stats.stop_reason != core.STOP_TARGET:
+                why = core.STOP_REASON_TEXT.get(r.stats.stop_reason, r.stats.stop_reason)
                 self.inputs[0].warnings.append(
                     f"the asset's LOD{k} stopped above its budget of {self._asset_targets[k - 1]} triangles: {why}")
         return self.TOGETHER_SHARE
@@ -290,8 +293,8 @@ class LodJob:
 
         try:
             counts = asset_set.split_budget(self.inputs, self._matrices, self._asset_targets, progress=step)
-        except lod.core.SimplifyCancelled as ex:
-            raise lod.LodCancelled("cancelled") from ex
+        except core.SimplifyCancelled as ex:
+            raise LodCancelled("cancelled") from ex
         except ValueError as ex:
             raise LodError(f"splitting the asset's budget over its parts: {ex}") from ex
         for column, lod_input in zip(counts.T, self.inputs):
@@ -339,7 +342,7 @@ class LodJob:
         if self.error is not None:
             raise self.error
         if self._cancel.is_set():
-            raise lod.LodCancelled("cancelled")
+            raise LodCancelled("cancelled")
         if len(self.outputs) != len(self.inputs):
             raise RuntimeError("the LOD job has not run")
         if self.asset is None:

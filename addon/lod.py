@@ -1,324 +1,46 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Generate a LOD chain for a mesh object: read, simplify with the core, write, link.
 
+The orchestrator of a LOD run, in three phases, so a caller can run the expensive middle
+one in a worker thread:
+    prepare(context, obj, settings) -> LodInput      main thread: reads Blender data (here,
+                                                     with rig.py, object_importance.py,
+                                                     mesh_io.py and pure/options.py)
+    compute(lod_input, progress)    -> LodOutput     any thread: NumPy and the core only
+                                                     (pure/compute.py)
+    commit(context, [outputs])      -> [report]      main thread: writes Blender data
+                                                     (commit.py; an output given for several
+                                                     objects sharing a mesh: LOD meshes made once)
+:func:`generate_lods` chains them for one object; LodJob (job.py) runs them for several.
+
 No UI here (operators, the command line and tests all call it). Bad input raises
 :class:`LodError` with a message meant for the user; a cancelled run raises
 :class:`LodCancelled`. Either way the scene is left as it was: all LOD meshes and
 objects are built first and linked into the scene only when every one of them exists.
-
-Three phases, so a caller can run the expensive middle one in a worker thread:
-    prepare(context, obj, settings) -> LodInput      main thread: reads Blender data
-    compute(lod_input, progress)    -> LodOutput     any thread: NumPy and the core only
-    commit(context, [outputs])      -> [report]      main thread: writes Blender data
-                                                     (an output given for several objects
-                                                     sharing a mesh: LOD meshes made once)
-:func:`generate_lods` chains them for one object.
 """
 from __future__ import annotations
 
 import dataclasses
-import time
-from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
 
-import bpy
-
-from ._core import core
 from . import asset as asset_set
-from . import bake
-from . import deviation_search
-from . import deviation_targets
-from . import edges as edge_util
-from . import importance as imp
-from . import key_deviation
-from . import level_deviation
-from . import limits
-from . import measure
 from . import mesh_io
-from . import posed_deviation
-from . import skin_fit
-from . import switch_distances
-from . import vertex_groups
-# The report's sample counts live with the deviation search, which measures as the report
-# does, and CHECK_POSES with the skin fit; callers still name them lod.<name>.
-from .deviation_search import DEVIATION_SAMPLES, DEVIATION_SAMPLES_MIN, DEVIATION_SAMPLES_PER_TRIANGLE  # noqa: F401
-from .deviation_search import report_samples
-from .settings import LodCancelled, LodError, LodSettings  # noqa: F401  (part of this module's API)
-from .skin_fit import CHECK_POSES
-
-SOURCE_PROP = "lod_source"  # custom property on a LOD: the name of the object it was made from
-LEVEL_PROP = "lod_level"  # custom property on a LOD: 1..n (the source is LOD0)
-# Custom properties on every object of a measured chain (the source too), one per key of
-# switch_distances.PER_LEVEL_KEYS: "lqlod_switch_distance", "lqlod_unity_transition_height", ...
-# The FBX exporter writes them (Custom Properties), the glTF hook (gltf_lod.py) reads them.
-SWITCH_PROP_PREFIX = "lqlod_"
-PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
-# What a measured LOD's report entry takes from measure.mesh_report: distances in % of the
-# source's bounding-box diagonal, the shading normals' angle to the source's in degrees
-# (measure.normal_deviation), triangle quality.
-NORMAL_KEYS = ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees")
-REPORT_KEYS = ("hausdorff_percent", "mean_percent") + NORMAL_KEYS + ("mean_quality", "min_quality",
-                                                                     "sliver_percent")
-# compute() reports simplification as this share of its progress and the deviation
-# measurement (when on) as the rest; progress_share() is what callers estimating time use.
-SIMPLIFY_SHARE = 0.8
-
-
-def progress_share(measuring: bool) -> float:
-    """The share of compute()'s progress fraction that simplification takes."""
-    return SIMPLIFY_SHARE if measuring else 1.0
-
-
-@dataclass
-class LodInput:
-    source_name: str
-    settings: LodSettings
-    data: mesh_io.MeshData
-    targets: list
-    core_options: core.Options
-    names: dict  # attribute keys given to the core -> what they stand for
-    warnings: list = field(default_factory=list)
-    importance: Optional[np.ndarray] = None  # g in [0, 1] per vertex, for the density report
-    # Source Armature: the rig's sample poses (P, deform bones, 4, 4) in mesh coordinates,
-    # in the order of names["skin"] (core.skinning): the LODs' weights are fitted to them.
-    poses: Optional[np.ndarray] = None
-    # and further random poses, never fitted to, that coarse levels are checked in
-    # (skin_fit.skinned_levels)
-    check_poses: Optional[np.ndarray] = None
-    # A chain by deviation: each LOD's largest allowed measured distance, in the object's
-    # own (local) units, like the mesh data;
-    # ``targets`` are then the rungs the search measures (addon/deviation_search.py,
-    # addon/deviation_targets.py).
-    deviations: Optional[list] = None
-    # A part of an asset (addon/asset.py): its targets are the asset budget's share
-    # (set by LodJob before compute; [] when the split removes it at LOD1), deviations are
-    # the asset's, and a level the part cannot meet is left out rather than an error.
-    # ``reference_diagonal``: what "percent" means, in the object's own units (the asset's
-    # bounding-box diagonal; None: the mesh's own).
-    in_asset: bool = False
-    reference_diagonal: Optional[float] = None
-    # The source's material per slot (None: an empty slot), for the report's breakdown
-    # per material (addon/level_deviation.py).
-    material_names: list = field(default_factory=list)
-    # Painted limits (addon/limits.py): (the limit group's column of data.group_weights,
-    # the limit L in the object's units, or per level a tuple of them (pixels: set by
-    # compute), their size in scene units), or None.
-    limit: Optional[tuple] = None
-    # A part of an asset simplified with the others in one core run (LodJob, core.assembly):
-    # its levels, as that run left them (compute measures and writes them), or None.
-    chain: Optional[list] = None
-    # A part of an asset: the area samples a side its levels are measured with (its share
-    # of the asset's, deviation_search.part_samples), or None: its own size's.
-    part_samples: Optional[int] = None
-
-
-@dataclass
-class LodOutput:
-    input: LodInput
-    levels: list  # MeshData per LOD
-    reports: list  # dict per LOD
-    seconds: float
-
-
-# ----------------------------------------------------------------------------- prepare
-
-
-def _scene_and_depsgraph(context_or_scene):
-    if isinstance(context_or_scene, bpy.types.Scene):
-        scene = context_or_scene
-        if bpy.context.scene == scene and bpy.context.view_layer is not None:
-            depsgraph = bpy.context.evaluated_depsgraph_get()
-        else:
-            depsgraph = scene.view_layers[0].depsgraph
-            depsgraph.update()
-        return scene, depsgraph
-    return context_or_scene.scene, context_or_scene.evaluated_depsgraph_get()
-
-
-def armature_of(obj):
-    """The armature object deforming ``obj`` (Armature modifier, else armature parent)."""
-    for md in obj.modifiers:
-        if md.type == 'ARMATURE' and md.object is not None and md.object.type == 'ARMATURE':
-            return md.object
-    if obj.parent is not None and obj.parent.type == 'ARMATURE' and obj.parent_type == 'ARMATURE':
-        return obj.parent
-    return None
-
-
-def deform_columns(obj, group_names) -> tuple:
-    """(armature, column indices of the groups named after its deform bones) or (None, [])."""
-    arm = armature_of(obj)
-    if arm is None:
-        return None, []
-    deform = {b.name for b in arm.data.bones if b.use_deform}
-    return arm, [i for i, name in enumerate(group_names) if name in deform]
-
-
-def skinned_columns(obj, group_names) -> tuple:
-    """(armature, columns of the groups named after its deform bones); LodError naming
-    what is missing when ``obj`` is not skinned."""
-    arm = armature_of(obj)
-    if arm is None:
-        raise LodError(f'"{obj.name}" is not skinned: it has no Armature modifier or armature parent')
-    if not any(b.use_deform for b in arm.data.bones):
-        raise LodError(f'armature "{arm.name}" has no deform bones')
-    _, cols = deform_columns(obj, group_names)
-    if not cols:
-        raise LodError(
-            f'"{obj.name}" has no vertex groups named after the deform bones of "{arm.name}": '
-            f'weight it first (e.g. Parent > With Automatic Weights)')
-    return arm, cols
-
-
-def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
-    """The paper's (Sec. 5.3) importance g in [0, 1] from ``obj``'s deform-bone weights."""
-    _, cols = skinned_columns(obj, group_names)
-    return imp.skin_importance(np.asarray(group_weights)[:, cols])
-
-
-def rig_arrays(obj, arm) -> tuple:
-    """(bone names, rest matrices (B, 4, 4) in armature space, parent indices (B,),
-    the matrix taking ``obj``'s coordinates into ``arm``'s) for core.skinning."""
-    bones = list(arm.data.bones)
-    names = [b.name for b in bones]
-    rest = np.array([np.array(b.matrix_local, dtype=np.float64) for b in bones])
-    parents = np.array([names.index(b.parent.name) if b.parent is not None else -1 for b in bones])
-    to_armature = np.linalg.inv(np.array(arm.matrix_world, dtype=np.float64)) @ np.array(obj.matrix_world,
-                                                                                     dtype=np.float64)
-    return names, rest, parents, to_armature
-
-
-def sample_poses(obj, group_names, count: int = core.skinning.SAMPLE_POSES, seed: int = 0) -> np.ndarray:
-    """(count, B, 4, 4) deform matrices of core.skinning's random sample poses of
-    ``obj``'s armature, in the mesh's own coordinates, one per deform-bone group in the
-    order of ``deform_columns``. Made from the bones' rest matrices: the scene's pose is
-    not read or touched. The first SAMPLE_POSES are the same whatever ``count``."""
-    arm, cols = skinned_columns(obj, group_names)
-    names, rest, parents, to_armature = rig_arrays(obj, arm)
-    poses = core.skinning.change_of_space(core.skinning.random_poses(rest, parents, count=count, seed=seed),
-                                          to_armature)
-    return poses[:, [names.index(group_names[c]) for c in cols]]
-
-
-def no_shape_keys(obj) -> str:
-    """The message for Source Shape Keys on an object without any."""
-    return (f'"{obj.name}" has no shape keys: add some (Object Data Properties > Shape Keys) '
-            f'or choose another importance source')
-
-
-def none_has_shape_keys(names: list) -> str:
-    """The message for Source Shape Keys on several objects none of which has any."""
-    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
-    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
-            f"(Object Data Properties > Shape Keys) or choose another importance source")
-
-
-# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
-# importance, this note (the command line's words for the same case, headless/sources.py).
-NO_KEYS_NOTE = "no importance (no shape keys)"
-
-
-def shape_key_importance_of(obj) -> np.ndarray:
-    """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
-    from its shape keys (importance.shape_key_importance); LodError when it has none."""
-    names = vertex_groups.group_names(obj.data)
-    weights = vertex_groups.read_weights(obj.data, names) if names else None
-    basis_name, use_relative, keys = mesh_io.read_shape_keys(obj.data)
-    if not keys:
-        raise LodError(no_shape_keys(obj))
-    return imp.shape_key_importance(key_deviation.key_offsets(keys, use_relative, names, weights, basis_name))
-
-
-def _importance(obj, settings, group_names, group_weights, key_offsets=None) -> Optional[np.ndarray]:
-    """Importance g in [0, 1] per vertex from the settings' source, or None (no source);
-    group_names and group_weights (n, g) are the mesh's vertex groups, ``key_offsets()``
-    what its shape keys move each vertex by (key_deviation.key_offsets; only called for
-    Source Shape Keys). LodError names what is missing."""
-    if settings.importance_source == 'VERTEX_GROUP':
-        name = settings.importance_group
-        if not name:
-            raise LodError("importance source is Vertex Group but no group is chosen")
-        if name not in group_names:
-            raise LodError(f'"{obj.name}" has no vertex group "{name}"')
-        return np.asarray(group_weights)[:, list(group_names).index(name)]
-    if settings.importance_source == 'ARMATURE_PAPER':
-        return skin_importance_of(obj, group_names, group_weights)
-    if settings.importance_source == 'SHAPE_KEYS':
-        offsets = key_offsets() if key_offsets is not None else np.zeros((0, 0, 3))
-        if len(offsets) == 0:
-            raise LodError(no_shape_keys(obj))
-        return imp.shape_key_importance(offsets)
-    return None  # 'ARMATURE' acts through the sample poses (prepare), not through g
-
-
-def _core_options(obj, settings, data, g, poses=None) -> tuple:
-    names = {}
-    vattr, cattr, normalize, uvs = {}, {}, [], []
-    weights = data.group_weights
-    if data.group_names:
-        _, skin_cols = deform_columns(obj, data.group_names)
-        other_cols = [i for i in range(len(data.group_names)) if i not in set(skin_cols)]
-        if skin_cols:
-            skin = weights[:, skin_cols]
-            vattr["skin"] = skin
-            names["skin"] = skin_cols
-            # Renormalised only when the artist's weights were normalised to begin with.
-            if np.allclose(skin.sum(axis=1), 1.0, atol=1e-3):
-                normalize.append("skin")
-        if other_cols:
-            vattr["groups"] = weights[:, other_cols]
-            names["groups"] = other_cols
-    for i, layer in enumerate(data.colors):
-        key = f"color{i}"
-        (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
-    for i, sk in enumerate(data.shape_keys):
-        vattr[f"shape{i}"] = sk.offsets
-    for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
-        cattr[f"uv{i}"] = corners
-        uvs.append(f"uv{i}")
-    if data.custom_normals is not None:
-        # Carried like any corner attribute: a corner keeps (or interpolates) its source
-        # corners' normals, and a hard edge, where the normals differ, stays a split. But
-        # no seam (core Options.seamless_attributes): an exporter's hard edges are
-        # everywhere on a faceted low-poly mesh and would lock nearly every vertex.
-        cattr["normal"] = data.custom_normals
-
-    feature_sets = []
-    if settings.preserve_sharp:
-        feature_sets.append((data.sharp_edges, settings.sharp_strength))
-    if settings.preserve_seams:
-        feature_sets.append((data.seam_edges, settings.seam_strength))
-    if settings.preserve_materials:
-        feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
-    feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
-
-    # Each setting's core option is named in its row of addon/settings.py's SETTINGS.
-    options = core.Options(
-        # Shape keys count in the error too: the LOD stays close at each key's full value.
-        shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
-        line_weight=float(settings.line_weight),
-        min_quality=float(settings.min_quality),
-        feature_angle=float(settings.feature_angle) or None,
-        remove_small_components=bool(settings.remove_small_components),
-        boundary_weight=float(settings.boundary_strength) if settings.preserve_boundaries else 0.0,
-        preserve_seams=bool(settings.preserve_seams),
-        vertex_attributes=vattr,
-        normalize_attributes=tuple(normalize),
-        corner_attributes=cattr,
-        uv_attributes=tuple(uvs),
-        seamless_attributes=("normal",) if "normal" in cattr else (),
-    )
-    if len(feature_edges):
-        options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
-    if g is not None:
-        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength,
-                                                          keys=settings.importance_source == 'SHAPE_KEYS'))
-    if poses is not None:
-        options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
-                                  pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
-    return options, names
+from . import object_importance
+from . import rig
+from .commit import commit
+from .pure import deviation_targets
+from .pure import key_deviation
+from .pure import limits
+from .pure import measure
+from .pure._core import core
+from .pure.compute import compute
+from .pure.mesh_data import MeshData
+from .pure.options import mesh_options
+from .pure.phases import LodInput
+from .pure.settings import LodError, LodSettings
+from .pure.skin_fit import CHECK_POSES
 
 
 def check_source(source) -> None:
@@ -351,7 +73,7 @@ def shared_mesh_key(source, settings: LodSettings):
         return None
     if settings.use_modifiers and mesh_io.has_geometry_modifiers(source):
         return None
-    if armature_of(source) is not None or settings.importance_source in ('ARMATURE', 'ARMATURE_PAPER'):
+    if rig.armature_of(source) is not None or settings.importance_source in ('ARMATURE', 'ARMATURE_PAPER'):
         return None
     if settings.bake_normals:
         return None
@@ -370,7 +92,7 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     rather than an error (LodJob raises one when none of the objects has keys)."""
     check_source(source)
     settings.validate()
-    _, depsgraph = _scene_and_depsgraph(context_or_scene)
+    _, depsgraph = mesh_io.scene_and_depsgraph(context_or_scene)
     data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
     if len(data.vertices) == 0:
         raise LodError(f'"{source.name}" has an empty mesh')
@@ -394,17 +116,18 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
     if keys_optional and settings.importance_source == 'SHAPE_KEYS' and not data.shape_keys:
         g = None
-        warnings.append(NO_KEYS_NOTE)
+        warnings.append(object_importance.NO_KEYS_NOTE)
     else:
-        g = _importance(source, settings, data.group_names, data.group_weights,
-                        lambda: key_deviation.offsets_of(data))
+        g = object_importance.importance_of(source, settings, data.group_names, data.group_weights,
+                                            lambda: key_deviation.offsets_of(data))
     if g is not None and settings.importance_source == 'SHAPE_KEYS' and not np.any(g > 0):
         warnings.append("no shape key moves any vertex: Source Shape Keys has nothing to keep")
     poses = check_poses = None
     if settings.importance_source == 'ARMATURE' and settings.importance_strength > 0:
-        every = sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
+        every = rig.sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
-    options, names = _core_options(source, settings, data, g, poses)
+    skin_columns = rig.deform_columns(source, data.group_names)[1] if data.group_names else []
+    options, names = mesh_options(settings, data, skin_columns, g, poses)
     limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
     if limit is not None and limit[1] is not None:  # (pixels: per level, from a first run: compute)
         column, value, _ = limit
@@ -417,9 +140,9 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
                     limit=limit)
 
 
-def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, reference: Optional[float],
+def painted_limit(source, settings: LodSettings, data: MeshData, reference: Optional[float],
                   in_asset: bool, warnings: list) -> Optional[tuple]:
-    """The settings' painted limit for ``source`` (addon/limits.py): (column, L in the
+    """The settings' painted limit for ``source`` (addon/pure/limits.py): (column, L in the
     object's units or None for pixels, object to scene units), or None without a Limit
     Group. A group the object lacks is a LodError, or for a part of an asset a note (the
     part is free); ``reference``: the asset's diagonal in the object's units (None: its
@@ -448,614 +171,6 @@ def painted_limit(source, settings: LodSettings, data: mesh_io.MeshData, referen
     return column, value, scale
 
 
-def importance_preview(obj, settings: LodSettings) -> tuple:
-    """The effective importance of ``obj``'s vertices in [0, 1] (addon/importance.py,
-    ``effective``) under ``settings``, read from the object's own mesh (not the modifier
-    result, so it can be written back as a vertex group), and how many vertices count as
-    painted (g >= 0.5). Raises LodError when the settings name no importance."""
-    if obj is None or getattr(obj, "type", None) != 'MESH':
-        raise LodError("Make a mesh object active")
-    if settings.importance_source == 'NONE':
-        raise LodError("Importance source is None: choose a vertex group, the armature or the shape keys first")
-    if settings.importance_source == 'ARMATURE':
-        raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
-                       "there is nothing to preview (Armature (Paper) has one)")
-    if settings.importance_source == 'SHAPE_KEYS':
-        g = shape_key_importance_of(obj)
-    else:
-        names = vertex_groups.group_names(obj.data)
-        g = _importance(obj, settings, names, vertex_groups.read_weights(obj.data, names))
-    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= PAINTED))
-
-
-def region_word(source: str) -> str:
-    """What the report and the panel call the region of g >= 0.5 for an importance source:
-    "keyed" for Source Shape Keys (nobody painted it), else "painted"."""
-    return "keyed" if source == 'SHAPE_KEYS' else "painted"
-
-
-def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "painted") -> Optional[dict]:
-    """How dense the painted region (g >= 0.5) came out against the rest: the share of
-    each kept and their ratio, the density in/out relative to the input's (on a uniform
-    mesh simply the painted region's vertex density over the rest's). ``region``: what
-    the panel calls that region (region_word). None when nothing or everything is painted."""
-    painted = np.asarray(g) >= PAINTED
-    n_in = int(np.count_nonzero(painted))
-    n_out = len(painted) - n_in
-    if n_in == 0 or n_out == 0:
-        return None
-    kept_in = int(np.count_nonzero(painted[vertex_origin]))
-    kept_out = len(vertex_origin) - kept_in
-    share_in, share_out = kept_in / n_in, kept_out / n_out
-    return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
-            "rest_kept_percent": 100.0 * share_out,
-            "painted_density": share_in / share_out if share_out > 0 else float("inf"), "region": region}
-
-
-# ----------------------------------------------------------------------------- compute
-
-
-def _sharp_chains(data: mesh_io.MeshData, result) -> np.ndarray:
-    """(k, 2) LOD edges (LOD vertex ids) along which a chain of the source's sharp edges ran."""
-    kept = np.zeros(len(data.vertices), dtype=bool)
-    kept[result.vertex_origin] = True
-    pairs = edge_util.chains_through(data.sharp_edges, kept)
-    if len(pairs) == 0:
-        return pairs
-    lod_vertex = np.full(len(data.vertices), -1, dtype=np.int64)
-    lod_vertex[result.vertex_origin] = np.arange(len(result.vertex_origin))
-    pairs = lod_vertex[pairs]
-    lod_edges = edge_util.unique_edges(np.concatenate([result.faces[:, [0, 1]], result.faces[:, [1, 2]],
-                                                       result.faces[:, [2, 0]]]))
-    return pairs[edge_util.mark_edges(pairs, lod_edges, len(result.vertices))]
-
-
-def _output_mesh(data: mesh_io.MeshData, result, names, hard_edge_angle: float = 0.0) -> mesh_io.MeshData:
-    fo = result.face_origin
-    va, ca = result.vertex_attributes, result.corner_attributes
-    n_out = len(result.vertices)
-    weights = np.zeros((n_out, len(data.group_names)))
-    for key in ("skin", "groups"):
-        if key in names:
-            weights[:, names[key]] = np.clip(va[key], 0.0, 1.0)
-    colors = [
-        mesh_io.ColorLayer(layer.name, layer.domain, layer.data_type,
-                           va[f"color{i}"] if layer.domain == 'POINT' else ca[f"color{i}"])
-        for i, layer in enumerate(data.colors)
-    ]
-    uv_maps = {uv_name: ca[f"uv{i}"] for i, uv_name in enumerate(data.uv_maps)}
-    shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
-    smooth_group = data.smooth_group[fo]
-    faces = result.faces
-    # Normals split where the source's did: between faces of different smoothing regions,
-    # which sharp edges bound, and vertices split apart (an exported asset's hard edges;
-    # every edge, where each triangle has its own vertices). The core welds such vertices,
-    # so without this the LOD would shade smooth across them. Carried custom normals say
-    # themselves how the LOD shades; with them only the sharp edges are marked.
-    if len(data.sharp_edges) or "normal" not in ca:
-        sharp = edge_util.differing_edges(faces, smooth_group)
-    else:
-        sharp = np.empty((0, 2), np.int64)
-    if len(data.sharp_edges):
-        # And along the source's sharp edges, also those that end inside a smoothing
-        # region (a crease fading out), which the regions cannot say: where a chain of
-        # them ran between two vertices the LOD kept, and the LOD has that edge.
-        sharp = edge_util.unique_edges(np.concatenate([sharp, _sharp_chains(data, result)]))
-    if hard_edge_angle > 0 and "normal" not in ca:
-        sharp = edge_util.unique_edges(np.concatenate(
-            [sharp.reshape(-1, 2), core.features.sharp_edges(result.vertices, faces, hard_edge_angle)]))
-    if len(data.seam_edges):
-        # Seams where the source had them: between triangles from regions the seams
-        # separated, and, for seams that cut into a region (a cylinder's), where the UVs
-        # are split between two vertices that came from seam vertices.
-        on_seam = np.zeros(len(data.vertices), dtype=bool)
-        on_seam[data.seam_edges.ravel()] = True
-        on_seam = on_seam[result.vertex_origin]
-        parts = [edge_util.differing_edges(faces, data.seam_region[fo])]
-        for uv in uv_maps.values():
-            split = edge_util.corner_discontinuous_edges(faces, uv)
-            parts.append(split[on_seam[split].all(axis=1)])
-        seam = edge_util.unique_edges(np.concatenate(parts))
-    else:
-        seam = np.empty((0, 2), np.int64)
-    return mesh_io.MeshData(
-        vertices=result.vertices,
-        faces=faces,
-        material_index=data.material_index[fo],
-        smooth=data.smooth[fo],
-        smooth_group=smooth_group,
-        uv_maps=uv_maps,
-        uv_active=data.uv_active,
-        uv_render=data.uv_render,
-        colors=colors,
-        color_active=data.color_active,
-        color_render=data.color_render,
-        group_names=list(data.group_names),
-        group_weights=weights,
-        basis_name=data.basis_name,
-        shape_keys=shape_keys,
-        shape_use_relative=data.shape_use_relative,
-        sharp_edges=sharp,
-        seam_edges=seam,
-        seam_region=data.seam_region[fo] if data.seam_region is not None else None,
-        custom_normals=_unit(ca["normal"]) if "normal" in ca else None,
-    )
-
-
-def _unit(vectors: np.ndarray) -> np.ndarray:
-    """Rows scaled to length 1 (an interpolated normal is shorter); zero rows stay zero."""
-    length = np.linalg.norm(vectors, axis=-1, keepdims=True)
-    return np.divide(vectors, length, out=np.zeros_like(vectors), where=length > 1e-12)
-
-
-def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] = None) -> LodOutput:
-    """Simplify and measure (no bpy data access: safe in a worker thread).
-
-    progress(fraction in [0, 1]) is called during the run; returning False cancels it
-    (LodCancelled). Simplification is the first SIMPLIFY_SHARE, the deviation report the rest.
-    """
-    t0 = time.perf_counter()
-    measuring = lod_input.settings.measuring()
-    simplify_share = progress_share(measuring or lod_input.deviations is not None)
-
-    def report_progress(fraction):
-        if progress is not None and progress(min(max(fraction, 0.0), 1.0)) is False:
-            raise LodCancelled("cancelled")
-
-    data = lod_input.data
-
-    reached = [0.0]  # a search runs the core more than once: the bar never goes back
-
-    def simplify(targets, **options):
-        def step(f):
-            reached[0] = max(reached[0], simplify_share * f)
-            return progress is None or progress(reached[0]) is not False
-        return _simplify(lod_input, targets, step, **options)
-
-    built = {}  # output meshes already made (under a painted limit): {id(result): (result, mesh)}
-    if lod_input.in_asset and not lod_input.targets and lod_input.deviations is not None:
-        # A part too small to search (addon/asset.py): whole at every level of the asset.
-        measured = {}
-        whole = deviation_search.whole(lod_input, simplify, measured)
-        results, requested = [whole] * len(lod_input.deviations), list(lod_input.deviations)
-        lod_input.targets = [len(data.faces)] * len(results)
-        lod_input.warnings.append(f"too small ({len(data.faces)} triangles) for a LOD by deviation: "
-                                  f"kept whole at every level")
-    elif lod_input.in_asset and not lod_input.targets:
-        results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
-    elif lod_input.chain is not None:  # simplified with the rest of its asset (LodJob)
-        results, requested, measured = list(lod_input.chain), [None] * len(lod_input.chain), {}
-    elif lod_input.deviations is not None:
-        results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
-                                                                     simplify_share, _simplify)
-    elif lod_input.limit is not None:
-        # Painted limits with triangle targets: measured as the report measures, rerun
-        # tighter where a level came out beyond (addon/limits.py).
-        first = _with_pixel_limit(lod_input, simplify) if lod_input.limit[1] is None else None
-        results, measured, built = _held_to_limit(lod_input, simplify, first)
-        requested = [None] * len(results)
-    else:
-        results = simplify(lod_input.targets)
-        requested = [None] * len(results)
-        measured = {}
-    levels, reports = [], []
-    diagonal = None
-    if lod_input.deviations is not None:
-        diagonal = lod_input.reference_diagonal or measure.bbox_diagonal(data.vertices, data.faces)
-    if lod_input.poses is not None:
-        results = skin_fit.skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
-                                          lambda: report_progress(simplify_share))
-    previous = None  # the last level's measurement (a repeated level is not measured again)
-    for k, (target, result) in enumerate(zip(lod_input.targets, results), start=1):
-        report_progress(simplify_share + (1.0 - simplify_share) * (k - 1) / len(results))
-        repeated = k > 1 and result is results[k - 2]
-        if repeated:  # a level repeated (an asset's part): one mesh
-            levels.append(levels[-1])
-        elif id(result) in built and built[id(result)][0] is result:  # (measured under a limit)
-            levels.append(built[id(result)][1])
-        else:
-            levels.append(_output_mesh(data, result, lod_input.names, lod_input.settings.hard_edge_angle))
-        stats = result.stats
-        entry = {
-            "level": k,
-            "target": int(target) if requested[k - 1] is None else None,
-            "triangles": int(len(result.faces)),
-            "vertices": int(len(result.vertices)),
-            "seconds": float(stats.seconds),
-            "stop_reason": stats.stop_reason,
-            "relaxation_step": int(stats.relaxation_step),
-            "removed_components": int(stats.removed_components),
-        }
-        if requested[k - 1] is not None:
-            entry["requested_deviation"] = requested[k - 1]
-            entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
-        if measuring or requested[k - 1] is not None:
-            rep = previous if repeated and previous is not None else \
-                _level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)
-            previous = rep
-            entry.update({key: float(rep[key]) for key in REPORT_KEYS if key in rep})
-            # Per material and painted region, and the heat map when asked for.
-            levels[-1], more = level_deviation.measure_level(lod_input, levels[-1], rep, k - 1)
-            entry.update(more)
-        else:
-            entry.update(core.quality_summary(result.vertices, result.faces))
-            if lod_input.limit is not None and id(result) in measured:
-                # Measuring off, but the chain was held to its painted limit as measured:
-                # how it kept the limit costs nothing more to report.
-                kept = limits.limit_entry(lod_input, measured[id(result)], k - 1)
-                if kept is not None:
-                    entry["limit"] = kept
-        if measuring and data.shape_keys:
-            # Each key's shape too: the LOD with the key at 1 against the source with it.
-            entry["shape_keys"] = reports[-1]["shape_keys"] if repeated and "shape_keys" in reports[-1] \
-                else key_deviation.level_key_deviations(data, levels[-1])
-        if lod_input.importance is not None:
-            density = importance_density(lod_input.importance, result.vertex_origin,
-                                         region_word(lod_input.settings.importance_source))
-            if density is not None:
-                entry["importance"] = density
-        if stats.stop_reason != core.STOP_TARGET and requested[k - 1] is None:
-            why = core.STOP_REASON_TEXT.get(stats.stop_reason, stats.stop_reason)
-            hint = "" if lod_input.settings.remove_small_components else \
-                " (Remove Small Parts lets it delete the smallest separate parts)"
-            lod_input.warnings.append(
-                f"LOD{k} stopped at {entry['triangles']} triangles (target {target}): {why}"
-                + (hint if stats.stop_reason == core.STOP_TOPOLOGY else ""))
-        reports.append(entry)
-    report_progress(1.0)
-    return LodOutput(lod_input, levels, reports, time.perf_counter() - t0)
-
-
-def _held_to_limit(lod_input: LodInput, simplify, first: Optional[list] = None) -> tuple:
-    """(the chain under its painted limit, each level's measurement by id of its result,
-    and each level's output mesh: {id: (result, mesh)}).
-
-    The core holds the limit at its tracked points, and is given limits.CORE_SHARE of it;
-    the report's area samples fall between those points. Each level is measured here as
-    the report will measure it (the same output mesh, so the same samples: the report
-    reuses these measurements), and where a level used more than its limit the chain runs
-    again with that level's limits (and the ones before it) scaled down to
-    limits.RERUN_AIM of what was used, at most limits.RERUNS times."""
-    data, settings = lod_input.data, lod_input.settings
-    column, value, _ = lod_input.limit
-    weights = data.group_weights[:, column]
-    per_level = np.asarray(value if isinstance(value, tuple) else [value] * len(lod_input.targets), dtype=float)
-    rows = np.stack([limits.vertex_limits(weights, v) for v in per_level])
-    results = first if first is not None else simplify(lod_input.targets)
-    for attempt in range(limits.RERUNS + 1):
-        measured, built, used = {}, {}, []
-        for k, result in enumerate(results):
-            level = _output_mesh(data, result, lod_input.names, settings.hard_edge_angle)
-            built[id(result)] = (result, level)
-            normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
-            rep = deviation_search.deviation_report(data, level, normals, lod_input.part_samples)  # (as _level_report)
-            measured[id(result)] = rep
-            kept = limits.level_report(data, rep["sampled"], column, per_level[k],
-                                       lod_input.reference_diagonal or rep["diagonal"])
-            used.append(0.0 if kept is None else kept["limit_used"])
-        scale = limits.rerun_scales(used)
-        if scale is None or attempt == limits.RERUNS:
-            return results, measured, built
-        rows = limits.scaled_rows(rows, scale)
-        results = simplify(lod_input.targets, vertex_max_error=rows)
-    return results, measured, built
-
-
-def _with_pixel_limit(lod_input: LodInput, simplify) -> list:
-    """The chain under a painted limit in pixels at each LOD's switch distance
-    (addon/limits.py): a first run without it gives each level's largest error ε_k
-    (measured, with the deviation search's quicker sampling), the limit is then
-    P / Pixel Error of it per level, and the chain runs again under those limits. Sets
-    the per-level limits into lod_input.limit."""
-    data, settings = lod_input.data, lod_input.settings
-    column, _, scale = lod_input.limit
-    free = simplify(lod_input.targets)
-    eps = [measure.surface_deviation(data.vertices, data.faces, r.vertices, r.faces,
-                                     n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"] for r in free]
-    per_level = limits.pixel_limits(eps, settings.limit_distance, settings.pixel_error)
-    weights = data.group_weights[:, column]
-    lod_input.limit = (column, tuple(float(v) for v in per_level), scale)
-    return simplify(lod_input.targets,
-                    vertex_max_error=np.stack([limits.vertex_limits(weights, v) for v in per_level]))
-
-
-def _level_report(data: mesh_io.MeshData, level: mesh_io.MeshData, measured: Optional[dict],
-                  part_samples: Optional[int] = None) -> dict:
-    """The report's measurement of ``level`` against the source ``data``: mesh_report at
-    report_samples, with the shading-normal deviation from the same closest points
-    (the LOD's normals as Blender will shade it, mesh_io.shading_normals). ``measured``:
-    the level's report if a deviation search already made one; it gets the normal
-    deviation on its own (the search measured before the LOD's normals existed)."""
-    normals = None if data.corner_normals is None else (data.corner_normals, mesh_io.shading_normals(level))
-    if measured is None:
-        return deviation_search.deviation_report(data, level, normals, part_samples)
-    if normals is None or "normal_mean_degrees" in measured:
-        return measured
-    angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
-                                      n_samples=report_samples(len(data.faces), part_samples))
-    return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})
-
-
-def _simplify(lod_input: LodInput, targets: list, progress, **options) -> list:
-    """core.simplify_chain on the input, with the input's options (``options`` replacing
-    some); cancelling and the core's ValueError become LodCancelled and LodError."""
-    data = lod_input.data
-    try:
-        return core.simplify_chain(data.vertices, data.faces, targets,
-                                   core.Options.of(lod_input.core_options, **options), progress=progress)
-    except core.SimplifyCancelled as ex:
-        raise LodCancelled("cancelled") from ex
-    except ValueError as ex:
-        raise LodError(f'"{lod_input.source_name}": {ex}') from ex
-
-
-_fit_skin = skin_fit.fit_skin  # (kept here too: bench/skinned_ablation.py names it lod._fit_skin)
-
-
-# ----------------------------------------------------------------------------- commit
-
-
-_TRANSFORM_PROPS = ("rotation_mode", "location", "rotation_euler", "rotation_quaternion",
-                    "rotation_axis_angle", "scale", "delta_location", "delta_rotation_euler",
-                    "delta_rotation_quaternion", "delta_scale")
-_ARMATURE_MOD_PROPS = ("object", "use_vertex_groups", "use_bone_envelopes", "use_deform_preserve_volume",
-                       "use_multi_modifier", "vertex_group", "invert_vertex_group", "show_viewport",
-                       "show_render")
-
-
-def _copy_setup(source, lod, level: int, mesh_too: bool = True) -> None:
-    """Give the new LOD object ``lod`` its source's place, materials, custom properties and
-    Armature modifiers. ``mesh_too``: also fill its mesh's material list (False for a LOD
-    mesh another instance's LOD object already set up: the list is the mesh's, shared)."""
-    lod.parent = source.parent
-    lod.parent_type = source.parent_type
-    if source.parent_type == 'BONE':
-        lod.parent_bone = source.parent_bone
-    lod.matrix_parent_inverse = source.matrix_parent_inverse.copy()
-    for prop in _TRANSFORM_PROPS:
-        setattr(lod, prop, getattr(source, prop))
-
-    materials = source.data.materials
-    if mesh_too:
-        for i in range(len(source.material_slots)):
-            lod.data.materials.append(materials[i] if i < len(materials) else None)
-    for i, slot in enumerate(source.material_slots):
-        if slot.link == 'OBJECT':
-            lod.material_slots[i].link = 'OBJECT'
-            lod.material_slots[i].material = slot.material
-
-    for key in source.keys():
-        if key in (SOURCE_PROP, LEVEL_PROP) or key.startswith(SWITCH_PROP_PREFIX):
-            continue
-        value = source[key]
-        lod[key] = value.to_dict() if hasattr(value, "to_dict") else (
-            value.to_list() if hasattr(value, "to_list") else value)
-        try:
-            lod.id_properties_ui(key).update(**source.id_properties_ui(key).as_dict())
-        except TypeError:  # values without UI data (groups, ID pointers)
-            pass
-    lod[SOURCE_PROP] = source.name
-    lod[LEVEL_PROP] = level
-
-    for md in source.modifiers:
-        if md.type == 'ARMATURE' and md.object is not None:
-            new = lod.modifiers.new(md.name, 'ARMATURE')
-            for prop in _ARMATURE_MOD_PROPS:
-                setattr(new, prop, getattr(md, prop))
-
-
-def previous_lods(source_name: str) -> list:
-    """LOD objects made from the object called ``source_name`` by an earlier run."""
-    return [ob for ob in bpy.data.objects if ob.get(SOURCE_PROP) == source_name and LEVEL_PROP in ob]
-
-
-def _remove_object_and_mesh(ob) -> None:
-    mesh = ob.data if ob.type == 'MESH' else None
-    bpy.data.objects.remove(ob)
-    if mesh is not None and mesh.users == 0:
-        vertex_groups.remove_mesh(mesh)
-
-
-def _replace_lod(ob) -> None:
-    """Remove an earlier run's LOD, with the material copies and images its bake made
-    once nothing uses them (they would stay behind as orphans, and push the new copies'
-    names to .001); materials and images not made by a bake are never removed."""
-    baked = bake.baked_materials(ob)  # read before the object and its mesh go
-    _remove_object_and_mesh(ob)
-    bake.remove_unused(baked)
-
-
-def in_scene(collection, scene) -> bool:
-    """Whether ``collection`` is the scene's own collection or one nested in it."""
-    return collection == scene.collection or collection in scene.collection.children_recursive[:]
-
-
-def _lod_collection(scene, source):
-    name = f"{source.name}_LODs"
-    coll = bpy.data.collections.get(name)
-    if coll is None:
-        coll = bpy.data.collections.new(name)
-    if not in_scene(coll, scene):
-        parent = next((c for c in source.users_collection if in_scene(c, scene)), scene.collection)
-        parent.children.link(coll)
-    return coll
-
-
-def switch_prop(key: str) -> str:
-    """The custom property holding one level's switch_distances number ``key``."""
-    return SWITCH_PROP_PREFIX + key
-
-
-world_scale = asset_set.world_scale  # (kept here too: callers name it lod.world_scale)
-
-
-def _switch_data(source, out) -> tuple:
-    """(switch_distances.chain_switch_data of the chain, or None, and why not)."""
-    if not all("hausdorff_percent" in entry for entry in out.reports):
-        return None, None  # nothing measured (Measure Deviation off), nothing to say
-    try:
-        percent = [0.0] + [entry["hausdorff_percent"] for entry in out.reports]
-        data = out.input.data
-        settings = out.input.settings
-        return switch_distances.chain_switch_data(
-            percent, data.vertices, data.faces, world_scale(source), pixel_error=settings.pixel_error,
-            screen_height=settings.screen_height, vertical_fov_degrees=settings.vertical_fov), None
-    except ValueError as ex:
-        return None, f"no switch distances: {ex}"
-
-
-def _set_switch_props(ob, numbers) -> None:
-    for key in [k for k in ob.keys() if k.startswith(SWITCH_PROP_PREFIX)]:
-        del ob[key]
-    for key, value in (numbers or {}).items():
-        ob[switch_prop(key)] = float(value)
-
-
-def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
-           switch: Optional[dict] = None) -> list:
-    """Write the LOD objects of each output and link them (main thread).
-
-    ``sources``: the object (or its name) each output is for; by default each output's own
-    source (``out.input.source_name``). An output given for several objects (the very same
-    LodOutput, e.g. LodJob's for objects sharing one mesh) is written once: its LOD meshes
-    are built for the first of them and every one of them gets LOD objects of its own
-    (names, transform, parent, collection, object-linked materials, custom properties as
-    for any source) that use those meshes.
-
-    Everything is built unlinked first; if anything fails, what was built is removed
-    and the scene is untouched. Then each source's earlier LODs are replaced.
-    ``switch``: one set of switch numbers (switch_distances.switch_data) for every chain,
-    an asset's (addon/asset.py), instead of each chain's own.
-    Returns one report dict per entry of ``outputs``; the report of an object sharing
-    another's LOD meshes names them (``levels[i]["mesh"]``, ``shared_with``), says whose
-    entry has the time (``shares``) and has ``seconds`` 0 (levels' too), so times add up.
-    """
-    scene, _ = _scene_and_depsgraph(context_or_scene)
-    if sources is None:
-        names = [out.input.source_name for out in outputs]
-    else:
-        if len(sources) != len(outputs):
-            raise ValueError(f"{len(sources)} sources for {len(outputs)} outputs")
-        names = [getattr(s, "name", s) for s in sources]
-    group_names = {}  # id(output) -> names of the objects it is written for, in order
-    for out, name in zip(outputs, names):
-        group_names.setdefault(id(out), []).append(name)
-    built = []  # (source, output, its LOD objects, name of the group's first object or None)
-    lod_meshes = {}  # id(output) -> its LOD meshes, built for the first object given it
-    made = []  # every mesh built, removed again if anything fails
-    try:
-        for out, name in zip(outputs, names):
-            source = bpy.data.objects.get(name)
-            if source is None:
-                raise LodError(f'the object "{name}" no longer exists')
-            meshes = lod_meshes.get(id(out))
-            first = meshes is None
-            if first:
-                meshes = lod_meshes[id(out)] = []
-            objects = []
-            built.append((source, out, objects, None if first else group_names[id(out)][0]))
-            for k, level in enumerate(out.levels, start=1):
-                # (A level repeating the one before, an asset's part that cannot get
-                # coarser, uses its mesh.)
-                new = first and not (k > 1 and level is out.levels[k - 2])
-                if new:
-                    mesh = mesh_io.build_mesh(f"{source.name}_LOD{k}", level)
-                    made.append(mesh)
-                    meshes.append(mesh)
-                elif first:
-                    meshes.append(meshes[-1])
-                mesh = meshes[k - 1]
-                lod = bpy.data.objects.new(f"{source.name}_LOD{k}.tmp", mesh)
-                objects.append(lod)
-                if new:  # both are the mesh's (vertex group names too, since Blender 3.0)
-                    mesh_io.add_vertex_groups(lod, level)
-                    mesh_io.add_shape_keys(lod, level)
-                _copy_setup(source, lod, k, mesh_too=new)
-    except BaseException:
-        for _, _, objects, _ in built:
-            for lod in objects:
-                bpy.data.objects.remove(lod)
-        for mesh in made:
-            if mesh.users == 0:
-                vertex_groups.remove_mesh(mesh)
-        raise
-
-    keep = {ob.as_pointer() for _, _, objects, _ in built for ob in objects}
-    keep |= {source.as_pointer() for source, _, _, _ in built}  # never remove an object being written for
-    # Every source's earlier LODs go before any new one is named, so that a LOD mesh several
-    # of them shared is gone (no users left) when the new shared mesh takes its name.
-    for source, _, _, _ in built:
-        for old in previous_lods(source.name):
-            if old.as_pointer() not in keep:
-                _replace_lod(old)
-    asset_switch = switch
-    reports = []
-    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal, part samples)
-    for source, out, objects, leader in built:
-        group = group_names[id(out)]
-        coll = _lod_collection(scene, source)
-        for k, lod in enumerate(objects, start=1):
-            lod.name = f"{source.name}_LOD{k}"
-            if leader is None and not (k > 1 and lod.data is objects[k - 2].data):
-                # Named as its LOD object, or when several objects' LODs use it, after the
-                # source mesh they all share: "<mesh>_LOD<k>".
-                lod.data.name = lod.name if len(group) == 1 else f"{source.data.name}_LOD{k}"
-            coll.objects.link(lod)
-        levels = [dict(entry, name=lod.name, mesh=lod.data.name) for entry, lod in zip(out.reports, objects)]
-        if leader is not None:  # computed once, for the group's first object: its entry has the time
-            for entry in levels:
-                entry["seconds"] = 0.0
-        data = out.input.data
-        warnings = list(out.input.warnings)
-        if asset_switch is not None:  # one set for the asset, each part switching with it
-            switch, why_not = asset_switch, None
-        else:
-            switch, why_not = _switch_data(source, out)  # per object: its world scale
-        per_level = switch_distances.per_level(switch)[:len(objects) + 1] if switch else [None] * (len(objects) + 1)
-        for ob, numbers in zip([source] + objects, per_level):
-            _set_switch_props(ob, numbers)
-        if switch:
-            for entry, numbers in zip(levels, per_level[1:]):
-                entry.update(numbers)
-            switch = {key: value for key, value in switch.items() if key not in switch_distances.PER_LEVEL_KEYS}
-            switch["lod0"] = per_level[0]
-        if why_not:
-            warnings.append(why_not)
-        if out.input.settings.bake_normals and leader is None:
-            # (Into copies of the LOD's materials: the objects sharing its meshes show the
-            # mesh-linked ones; LodJob does not share meshes when baking.)
-            warnings.extend(bake.bake_chain(
-                bpy.context, source, objects, levels, out.input.settings.bake_resolution,
-                measure.bbox_diagonal(data.vertices, data.faces)))
-        rep = {
-            "object": source.name,
-            "collection": coll.name,
-            "source_mesh": source.data.name,
-            "source_triangles": int(len(data.faces)),
-            "source_vertices": int(len(data.vertices)),
-            "seconds": float(out.seconds) if leader is None else 0.0,
-            "levels": levels,
-            "switch": switch,
-            "warnings": warnings,
-            # The other objects whose LOD objects use the same LOD meshes (made once).
-            "shared_with": [name for name in group if name != source.name],
-        }
-        if leader is not None:
-            rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
-        elif out.input.settings.measuring() and armature_of(source) is not None:
-            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces),
-                          out.input.part_samples))
-        reports.append(rep)
-    if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
-        try:
-            posed_deviation.measure_chains(scene, lambda: _scene_and_depsgraph(context_or_scene)[1], posed)
-        except Exception as ex:  # the LODs are made: a failed extra measurement is a note
-            for source, *_ in posed:
-                next(r for r in reports if r["object"] == source.name)["warnings"].append(
-                    f"the posed distance was not measured ({type(ex).__name__}: {ex})")
-    return reports
-
-
 def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                   progress: Optional[Callable[[float], object]] = None) -> dict:
     """Make ``source_obj``'s LOD chain and link it into the scene. Returns its report:
@@ -1073,7 +188,7 @@ def generate_lods(context_or_scene, source_obj, settings: LodSettings,
                LOD and the source each with that key at 1; key_deviation.py),
                measured: materials, regions ({name: {mean_percent, p95_percent,
                max_percent, samples}}), deviation_colors (with Deviation Colors), posed
-               (skinned: over the armature's actions; addon/level_deviation.py,
+               (skinned: over the armature's actions; addon/pure/level_deviation.py,
                addon/posed_deviation.py),
                and measured: deviation, switch_distance, msft_screen_coverage, unreal_screen_size,
                unity_transition_height, godot_visibility_range_begin/_end (switch_distances.py)}],

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import bpy
 
-from . import lod
-from .settings import LodError
+from . import lod_objects
+from .pure.settings import LodError
 
 BASE_NAME_PROP = "lod_base_name"  # on a source renamed "<name>_LOD0": its name before
 LOD_GROUP_SUFFIX = "_LODGroup"
@@ -65,7 +65,7 @@ def _set_screen_sizes(empty, levels: list) -> None:
     """Unreal's screen size per level on the group, from each level's first object (when measured)."""
     for key in [k for k in empty.keys() if k.startswith(UNREAL_SCREEN_SIZE_PROP)]:
         del empty[key]
-    sizes = [obs[0].get(lod.switch_prop("unreal_screen_size")) if obs else None for obs in levels]
+    sizes = [obs[0].get(lod_objects.switch_prop("unreal_screen_size")) if obs else None for obs in levels]
     if all(size is not None for size in sizes):
         for level, size in enumerate(sizes):
             empty[f"{UNREAL_SCREEN_SIZE_PROP}{level}"] = float(size)
@@ -105,8 +105,8 @@ def group_chain(context, base: str, chain: list):
     scene = context.scene
     source = chain[0]
     name = base + LOD_GROUP_SUFFIX
-    # Where lod.py puts the LODs' collection: LOD0's first collection in this scene.
-    collection = next((c for c in source.users_collection if lod.in_scene(c, scene)), scene.collection)
+    # Where commit.py puts the LODs' collection: LOD0's first collection in this scene.
+    collection = next((c for c in source.users_collection if lod_objects.in_scene(c, scene)), scene.collection)
     empty = _empty(context, name, collection)
     empty["fbx_type"] = "LodGroup"
     # Unreal's screen size per level (switch_distances.py), when the chain was measured:

@@ -13,11 +13,10 @@ import numpy as np
 
 import bpy
 
-from ._core import core
-from . import edges as edge_util
+from .pure import edges as edge_util
 from . import vertex_groups
 # The arrays themselves are bpy-free (mesh_data.py); named here as always.
-from .mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
+from .pure.mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
 
 
 def _get(collection, prop, count, dtype, width=1):
@@ -294,15 +293,6 @@ def write_point_floats(mesh: bpy.types.Mesh, values: dict) -> None:
         attr.data.foreach_set("value", np.asarray(array, dtype=np.float32).reshape(-1))
 
 
-def shading_normals(data: MeshData) -> np.ndarray:
-    """(m, 3, 3) the corner normals Blender gives the mesh build_mesh(data) makes: the
-    custom normals it writes, else the ones Blender computes from the smooth flags and
-    sharp edges (core.shading.corner_normals), without building the mesh."""
-    if data.custom_normals is not None:
-        return np.asarray(data.custom_normals, dtype=np.float64)
-    return core.shading.corner_normals(data.vertices, data.faces, data.smooth, data.sharp_edges)
-
-
 def add_vertex_groups(obj: bpy.types.Object, data: MeshData) -> None:
     if data.group_names:
         vertex_groups.write_weights(obj, data.group_names, data.group_weights)
@@ -335,3 +325,17 @@ def add_shape_keys(obj: bpy.types.Object, data: MeshData) -> None:
     for sk in data.shape_keys:
         if sk.relative_key in blocks:
             blocks[sk.name].relative_key = blocks[sk.relative_key]
+
+
+def scene_and_depsgraph(context_or_scene) -> tuple:
+    """(scene, evaluated depsgraph) of a context, or of a scene (its first view layer's
+    when it is not the context's)."""
+    if isinstance(context_or_scene, bpy.types.Scene):
+        scene = context_or_scene
+        if bpy.context.scene == scene and bpy.context.view_layer is not None:
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+        else:
+            depsgraph = scene.view_layers[0].depsgraph
+            depsgraph.update()
+        return scene, depsgraph
+    return context_or_scene.scene, context_or_scene.evaluated_depsgraph_get()

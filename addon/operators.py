@@ -14,12 +14,12 @@ import numpy as np
 
 import bpy
 
-from . import deviation_view, lod, vertex_groups
-from .importance import expected_gain
+from . import deviation_view, lod_objects, object_importance, vertex_groups
+from .pure.importance import expected_gain
 from .job import LodJob
-from .lod import LodCancelled, LodError, LodSettings
+from .pure.settings import LodCancelled, LodError, LodSettings
 from .props import settings_properties
-from .settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
+from .pure.settings import IMPORTANCE_GROUP, LIMIT_GROUP, PREVIEW_GROUP
 _PROGRESS_STEPS = 1000
 # Events a running generation lets through: looking around changes no data.
 _NAVIGATION = {'MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE', 'TRACKPADPAN', 'TRACKPADZOOM',
@@ -33,7 +33,7 @@ def scene_settings(context):
 def selected_meshes(context) -> list:
     """Selected mesh objects, except LODs made by an earlier run (they would be replaced
     while being read; a source selected together with its LODs is the usual case)."""
-    return [ob for ob in context.selected_objects if ob.type == 'MESH' and lod.LEVEL_PROP not in ob]
+    return [ob for ob in context.selected_objects if ob.type == 'MESH' and lod_objects.LEVEL_PROP not in ob]
 
 
 def _generate_blocker(context):
@@ -324,7 +324,7 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
 
         def skin_importance():
             names = vertex_groups.group_names(ob.data)
-            return lod.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
+            return object_importance.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
 
         written = self.write_group(ob, IMPORTANCE_GROUP, skin_importance)
         if written is None:
@@ -364,7 +364,7 @@ class OBJECT_OT_line_quadric_lod_from_shape_keys(_ImportanceOperator, bpy.types.
         if self.report_blocker(context):
             return {'CANCELLED'}
         ob = context.active_object
-        written = self.write_group(ob, IMPORTANCE_GROUP, lambda: (lod.shape_key_importance_of(ob), None))
+        written = self.write_group(ob, IMPORTANCE_GROUP, lambda: (object_importance.shape_key_importance_of(ob), None))
         if written is None:
             return {'CANCELLED'}
         g = written[0]
@@ -389,7 +389,7 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         ob = context.active_object
         settings = scene_settings(context)
         settings = LodSettings.from_properties(settings) if settings is not None else LodSettings()
-        written = self.write_group(ob, PREVIEW_GROUP, lambda: lod.importance_preview(ob, settings))
+        written = self.write_group(ob, PREVIEW_GROUP, lambda: object_importance.importance_preview(ob, settings))
         if written is None:
             return {'CANCELLED'}
         effective, painted = written

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import bpy
 
-from .settings import PRESERVE_PAIRS, LodSettings
-from .importance import expected_gain, pose_weight
+from .pure.settings import PRESERVE_PAIRS, LodSettings
+from .pure.importance import expected_gain, pose_weight
 from .operators import (
     OBJECT_OT_line_quadric_lod,
     OBJECT_OT_line_quadric_lod_deviation_back,
@@ -34,7 +34,7 @@ def chain_preview(settings) -> str:
 def breakdown_lines(level: dict) -> list:
     """The Last Run box's lines for one level beyond its row: the largest distance per
     material (when there are several) and per painted region, and the posed distance over
-    the rig's actions (addon/level_deviation.py, addon/posed_deviation.py)."""
+    the rig's actions (addon/pure/level_deviation.py, addon/posed_deviation.py)."""
     lines = []
     name = f"LOD{level['level']}"
     materials = level.get("materials") or {}
@@ -111,11 +111,11 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
             box.label(text=f'"{ob.name}" has no shape keys', icon='ERROR')
         if settings.importance_source == 'ARMATURE':
             box.prop(settings, "importance_strength")
-            # Not a density: the rig's sample poses count in the error (addon/importance.py).
+            # Not a density: the rig's sample poses count in the error (addon/pure/importance.py).
             box.label(text=f"Sample poses count {pose_weight(settings.importance_strength):g}x the rest shape")
         elif settings.importance_source != 'NONE':
             box.prop(settings, "importance_strength")
-            # What the strength buys, from the calibration (addon/importance.py).
+            # What the strength buys, from the calibration (addon/pure/importance.py).
             box.label(text=f"Importance 1: about {expected_gain(settings.importance_strength):.1f}x "
                            f"as dense as the rest")
         row = box.row(align=True)
@@ -214,7 +214,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
                                    f"the rest {imp['rest_kept_percent']:.0f} % "
                                    f"({imp['painted_density']:.1f}x as dense)")
             for level in rep["levels"]:
-                # The painted limit, measured (addon/limits.py): 1 = at the limit.
+                # The painted limit, measured (addon/pure/limits.py): 1 = at the limit.
                 if level.get("limit"):
                     kept = level["limit"]
                     box.label(text=f"LOD{level['level']} limit \"{kept['group']}\": {100 * kept['limit_used']:.0f} % "

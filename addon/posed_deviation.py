@@ -24,9 +24,10 @@ from typing import Optional
 
 import numpy as np
 
-from . import level_deviation
-from . import measure
-from .deviation_search import report_samples
+from .pure import level_deviation
+from .pure import measure
+from .pure.deviation_search import report_samples
+from .rig import armature_of
 
 FRAMES_PER_ACTION = 8
 MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)
@@ -135,8 +136,6 @@ def measure_chains(scene, depsgraph_of, chains: list) -> None:
     chains: [(source object, its LOD objects, their report entries, the source's
     bounding-box diagonal at rest, its LodInput.part_samples)]; a chain whose source no armature deforms is left
     out. ``depsgraph_of()``: the scene's evaluated depsgraph, current."""
-    from .lod import armature_of
-
     by_armature = {}
     for chain in chains:
         arm = armature_of(chain[0])

@@ -12,7 +12,7 @@ import json
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from .settings import SETTINGS
+from .pure.settings import SETTINGS
 
 _PROPERTY = {bool: BoolProperty, int: IntProperty, float: FloatProperty, str: StringProperty}
 

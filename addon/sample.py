@@ -23,7 +23,7 @@ import numpy as np
 import bpy
 
 from . import vertex_groups
-from .settings import IMPORTANCE_GROUP
+from .pure.settings import IMPORTANCE_GROUP
 SAMPLE_NAME = "sample"
 
 # The character's skeleton: joint positions (metres, Z up, facing -Y) and bones as

@@ -14,7 +14,7 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import tables
 import bpy  # noqa: F401  (brings mathutils, which the distance measure uses)
 
-from addon.measure import surface_deviation
+from addon.pure.measure import surface_deviation
 from core import engine, simplify
 from synthetic_meshes import arm_tube
 from sequential import simplify_sequential

@@ -31,7 +31,8 @@ import bpy
 
 from addon import asset as asset_set
 from addon import job as job_mod
-from addon import lod, measure
+from addon import lod
+from addon.pure import measure
 from addon.headless import scene_files
 from tables import header, row
 

@@ -5,7 +5,7 @@
 For each mesh (default: every mesh of ../shared/meshes) the add-on's own path makes one
 LOD per requested deviation (percent of the bounding-box diagonal), as the panel and
 ``--max-error`` do: the core's tracked distance bound first, the ladder where that
-misses (addon/deviation_targets.py). Prints a markdown table: requested, measured
+misses (addon/pure/deviation_targets.py). Prints a markdown table: requested, measured
 (the report's two-sided Hausdorff distance, 500k samples a side), their ratio (must be
 <= 1, and >= 0.5 to count as close), triangles, and the seconds of the whole search.
 """
@@ -21,7 +21,7 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 
 from addon import lod
-from addon.settings import LodSettings
+from addon.pure.settings import LodSettings
 from blender_reference import load_mesh, mesh_from_arrays
 from tables import header, row
 

@@ -8,7 +8,7 @@ Deviation" and ``--max-error``), which keeps the fewest triangles its report mea
 within the bound. Decimate: its ratio on a geometric grid (0.8^k) and then bisected
 (``--steps``) for the fewest triangles within the bound, on the welded triangles (Merge by Distance, as bench/run.py
 gives it), judged by the independent sampler below. Both LODs are measured by that one
-sampler (addon/measure.py, ``--samples`` area samples a side plus the vertices, a seed of
+sampler (addon/pure/measure.py, ``--samples`` area samples a side plus the vertices, a seed of
 its own): Decimate's is within it by construction, ours (found with the report's own
 sampler) is marked where it comes out beyond. Meshes: every mesh of ../shared/meshes, BoomBox and the
 ``--parts`` largest meshes of the 2CylinderEngine. Prints a markdown table with the
@@ -24,8 +24,8 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 
 from addon import lod
-from addon.measure import mesh_report
-from addon.settings import LodSettings
+from addon.pure.measure import mesh_report
+from addon.pure.settings import LodSettings
 from blender_reference import decimate, load_mesh, mesh_from_arrays
 from messy import ASSETS, gltf_meshes
 from run import MESH_SUFFIXES, environment, welded

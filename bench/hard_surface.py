@@ -20,7 +20,7 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import tables
 
 import core
-from addon.measure import mesh_report
+from addon.pure.measure import mesh_report
 from blender_reference import decimate, load_mesh
 from run import welded
 

@@ -8,8 +8,8 @@ Painted importance scales the whole augmented quadric of a vertex by a factor (p
 
   --sweep  measures the density gain each factor gives (core.simplify, ratio 0.1) on
            the two calibration surfaces below and prints GAIN_TO_FACTOR, the table
-           addon/importance.py interpolates (paste it there after a change to the core);
-  always   runs the add-on's own mapping (addon.importance.controls) at the slider's
+           addon/pure/importance.py interpolates (paste it there after a change to the core);
+  always   runs the add-on's own mapping (addon.pure.importance.controls) at the slider's
            strengths on both surfaces and prints the curve that docs/weight-painting.md
            shows, then (unless --no-ogre, or the mesh is absent) the default strength on
            a real mesh: ogre.obj with the 15 % of its vertices nearest its top painted.
@@ -36,8 +36,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
-from addon import importance as imp
-from addon import measure
+from addon.pure import importance as imp
+from addon.pure import measure
 from synthetic_meshes import grid
 
 RATIO = 0.1
@@ -97,7 +97,7 @@ def sweep() -> None:
     print(tables.header("quadric factor", "gain, flat", "gain, curved", "geometric mean"))
     for f, a, b, m in rows:
         print(tables.row(f"{f:g}", f"{a:.2f}", f"{b:.2f}", f"{m:.2f}"))
-    # The table addon/importance.py interpolates: strictly rising in the gain, so a
+    # The table addon/pure/importance.py interpolates: strictly rising in the gain, so a
     # non-monotone measurement (noise of the last collapses) is dropped, not pasted.
     table, best = [], 0.0
     for f, _, _, m in rows:
@@ -173,7 +173,7 @@ def ogre_operator_check() -> None:
         fc.log("ogre.obj not found in ../shared/meshes: operator check skipped")
         return
     from addon import lod
-    from addon.settings import LodSettings
+    from addon.pure.settings import LodSettings
     from blender_reference import mesh_arrays, stdout_to_stderr
 
     for ob in list(bpy.data.objects):

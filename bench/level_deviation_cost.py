@@ -6,10 +6,10 @@ the level report's measurement (issue 34 §3).
 The source: a bumpy UV sphere of about 50,000 triangles made here (or ``--mesh``), with
 two materials (its two halves) and a painted vertex group (a cap). Its default chain
 (50 %, 25 %, 12.5 %) is made once without measuring; then each LOD is measured as the
-report measures it (lod._level_report's measurement: mesh_report with the shading
+report measures it (compute.level_report's measurement: mesh_report with the shading
 normals, at report_samples) with and without keeping its points (alternately, the
 fastest of ``--repeats`` kept), and the breakdown per material and region
-(addon/level_deviation.py: what every measured LOD now pays) and the heat map (Deviation
+(addon/pure/level_deviation.py: what every measured LOD now pays) and the heat map (Deviation
 Colors) are timed on their own, the fastest of five times as many runs: a busy machine
 slows a measurement of half a second by more than the breakdown costs. Prints a
 markdown table; the extra columns are in percent of the measurement.
@@ -24,8 +24,9 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 import numpy as np
 
-from addon import deviation_search, level_deviation, lod, measure, mesh_io
-from addon.settings import LodSettings
+from addon.pure import deviation_search, level_deviation, measure, mesh_data
+from addon import lod
+from addon.pure.settings import LodSettings
 
 
 def bumpy_sphere():
@@ -80,7 +81,7 @@ def main() -> None:
     data = lod_input.data
 
     def measured(level, keep):
-        normals = (data.corner_normals, mesh_io.shading_normals(level))
+        normals = (data.corner_normals, mesh_data.shading_normals(level))
         return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces, normals=normals,
                                    keep_samples=keep,
                                    n_samples=(deviation_search.report_samples(len(data.faces)),

@@ -1,4 +1,4 @@
-"""Speed and convergence of addon/measure.py's surface_deviation at several sample counts.
+"""Speed and convergence of addon/pure/measure.py's surface_deviation at several sample counts.
 
     .venv/bin/python bench/measure_speed.py [--mesh PATH] [--ratio 0.1] [--samples 200000 500000 1000000]
 
@@ -16,7 +16,7 @@ from pathlib import Path
 import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import tables
 
-from addon.measure import surface_deviation
+from addon.pure.measure import surface_deviation
 from blender_reference import decimate, load_mesh
 
 

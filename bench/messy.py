@@ -12,7 +12,7 @@ Rows, each at every ratio, core and Decimate in this one process on the same tri
 
 Decimate gets the triangles welded (Merge by Distance, as bench/run.py does): unwelded,
 it cannot reduce the engine's parts at all. Distances are two-sided, in % of the input's
-bounding-box diagonal (addon/measure.py); slivers are faces of quality below 0.3. The
+bounding-box diagonal (addon/pure/measure.py); slivers are faces of quality below 0.3. The
 per-face column is core's time per input face over homer's at the same ratio. Prints a
 markdown table with the processor it ran on; docs/method.md quotes it.
 """
@@ -28,7 +28,7 @@ import bpy
 import numpy as np
 
 import core
-from addon.measure import mesh_report
+from addon.pure.measure import mesh_report
 from blender_reference import _clear_scene, decimate, load_mesh, mesh_arrays, stdout_to_stderr
 from run import environment, welded
 

@@ -19,11 +19,11 @@ For each case our add-on makes the LOD chain at the ratios (addon/lod.py, defaul
 settings, custom normals carried), and Blender's Decimate modifier (Collapse,
 triangulated) runs on the same object at each ratio, in the same run. Every mesh is read
 back through Blender (``corner_normals``: the normals as Blender shades it) and measured
-with addon/measure.py's ``normal_deviation``: degrees between the source's shading normal
+with addon/pure/measure.py's ``normal_deviation``: degrees between the source's shading normal
 at area-uniform samples and the LOD's at the closest point; mean / 95th percentile. With
 custom normals, the LOD is also measured with them dropped (cleared, so Blender computes
 its own from the smooth flags and sharp edges): what carrying them is worth. The report's
-own number (normals computed before the mesh exists, mesh_io.shading_normals) is checked
+own number (normals computed before the mesh exists, mesh_data.shading_normals) is checked
 against the measured one; a difference over 0.1 degrees is printed to stderr.
 Prints a markdown table.
 """
@@ -39,7 +39,8 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 
 from addon import lod as lod_module
-from addon import measure, mesh_io
+from addon.pure import measure
+from addon import mesh_io
 from blender_reference import load_mesh, mesh_from_arrays, stdout_to_stderr
 from tables import header, row
 

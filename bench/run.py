@@ -9,7 +9,7 @@ in this one process: core.simplify (default settings, line_weight 1e-3), Blender
 Decimate modifier (Collapse) and every installed optional peer (bench/peers.py: MeshLab
 with and without its planar quadric, meshoptimizer, fast-simplification; a peer that is
 not installed is skipped with a note) on the same triangle arrays, then the same
-measurements of every output against the input (addon/measure.py). Prints a markdown
+measurements of every output against the input (addon/pure/measure.py). Prints a markdown
 table on stdout (progress goes to stderr) and the issue-3 acceptance lines (core vs
 Blender) at ratio 0.1. --big adds the ~2M-face mesh made by subdividing ogre twice, with
 the peak memory of a core run in a child process; --scan runs only the ~7.9M-face ogre
@@ -37,7 +37,7 @@ import bpy
 import numpy as np
 
 import peers
-from addon.measure import DEFAULT_SAMPLES, mesh_report
+from addon.pure.measure import DEFAULT_SAMPLES, mesh_report
 from blender_reference import decimate, load_mesh
 import synthetic_meshes
 from synthetic_meshes import subdivide_midpoint

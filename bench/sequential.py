@@ -384,9 +384,9 @@ def main(argv=None) -> int:
     import argparse
 
     import _bootstrap  # noqa: F401  (isolated Blender user dirs, before bpy)
-    import bpy  # noqa: F401  (addon.measure's BVH trees need bpy's mathutils)
+    import bpy  # noqa: F401  (addon.pure.measure's BVH trees need bpy's mathutils)
     import run as run_bench
-    from addon.measure import DEFAULT_SAMPLES
+    from addon.pure.measure import DEFAULT_SAMPLES
     from blender_reference import decimate, load_mesh
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],

@@ -38,7 +38,8 @@ import numpy as np
 import bpy
 
 from addon import job as job_mod
-from addon import key_deviation, lod, measure
+from addon.pure import key_deviation, measure
+from addon import lod
 from addon.headless import scene_files
 from assets import processor
 from tables import header, row
@@ -225,7 +226,7 @@ def _world(parts: list, objects: list):
 def keyed_share(data) -> float:
     """Share of the source's vertices that Source Shape Keys gives importance >= 0.5 (one
     reference over the whole mesh: for an asset, the asset's)."""
-    from addon import importance
+    from addon.pure import importance
 
     return float(np.mean(importance.shape_key_importance(key_deviation.offsets_of(data)) >= 0.5))
 
@@ -291,7 +292,7 @@ def main() -> None:
                         help="the keys' own error counts as the rest's (no key weight)")
     args = parser.parse_args()
     if args.keys_as_rest:
-        from addon import importance
+        from addon.pure import importance
 
         importance.KEY_WEIGHT_PER_STRENGTH = 0.0
     print(f"Processor: {processor()}; bpy {bpy.app.version_string}; ratio {args.ratio:g}; two-sided mean and "

@@ -16,7 +16,7 @@ poses or clip frames) are taken from Blender as bone matrices, and then, in NumP
               each source vertex's posed distance to the "none" LOD over the evaluation
               poses, through the calibrated slider at Strength 0.5. No artist has it; it
               bounds what any density-only mapping (the paper's among them) could do.
-Posed: two-sided mean distance (addon/measure.py) between the posed source and the posed
+Posed: two-sided mean distance (addon/pure/measure.py) between the posed source and the posed
 LOD, linear blend skinning of both in NumPy (checked here against Blender's own posed
 source), % of the bounding-box diagonal, averaged over the row's poses; ratios over none.
 --poses, --seed and --pose-weight change the sample poses (core.skinning.random_poses) and
@@ -36,10 +36,11 @@ import numpy as np  # noqa: E402
 
 import core  # noqa: E402
 import skinned_poses as sp  # noqa: E402
-from addon import importance as imp  # noqa: E402
-from addon import lod  # noqa: E402
-from addon.measure import surface_deviation  # noqa: E402
-from addon.settings import LodSettings  # noqa: E402
+from addon.pure import importance as imp  # noqa: E402
+from addon.pure import skin_fit  # noqa: E402
+from addon import lod, rig  # noqa: E402
+from addon.pure.measure import surface_deviation  # noqa: E402
+from addon.pure.settings import LodSettings  # noqa: E402
 from fig_skinned import world_arrays  # noqa: E402
 
 skin = core.skinning.skin
@@ -53,8 +54,8 @@ def read_row(key, poses, seed):
         arm.animation_data_create()
     sp.rest(arm)
     inp = lod.prepare(bpy.context.scene, fox, LodSettings(ratio=row["ratio"], levels=1, measure_deviation=False))
-    sample = lod.sample_poses(fox, inp.data.group_names, poses, seed)
-    names, rest, parents, to_armature = lod.rig_arrays(fox, arm)
+    sample = rig.sample_poses(fox, inp.data.group_names, poses, seed)
+    names, rest, parents, to_armature = rig.rig_arrays(fox, arm)
     columns = [names.index(inp.data.group_names[c]) for c in inp.names["skin"]]
     evaluation = {"random": sp.random_poses(arm, sp.RANDOM_POSES), "clips": sp.clip_poses(arm, sp.clip_frames(5)),
                   "fig": sp.clip_poses(arm, sp.FIG_POSES)}[row["poses"]]
@@ -89,7 +90,7 @@ def posed_distance(inp, skin_w, mats, world, result, weights, samples):
 
 def fitted(inp, sample, result):
     """The LOD's weights fitted to the sample poses, as Source Armature fits them."""
-    return lod._fit_skin(dataclasses.replace(inp, poses=sample), result)[0].vertex_attributes["skin"]
+    return skin_fit.fit_skin(dataclasses.replace(inp, poses=sample), result)[0].vertex_attributes["skin"]
 
 
 def oracle_options(inp, skin_w, mats, result):

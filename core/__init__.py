@@ -38,10 +38,10 @@ from .simplify import simplify, simplify_chain
 from .metrics import SLIVER_QUALITY, triangle_quality, quality_summary
 from .weights import skin_line_weights
 from . import topology  # connectivity helpers the add-on and bench reuse (connected_labels)
-from . import shading  # shading normals and their deviation (addon/measure.py's normal_deviation)
+from . import shading  # shading normals and their deviation (addon/pure/measure.py's normal_deviation)
 from . import budget  # one triangle budget for many parts, split by error (addon/asset.py)
 from . import assembly  # many parts in one run, and its results split back (addon/job.py)
-from . import skinning  # posed error and fitted weights for skinned LODs (addon/lod.py)
+from . import skinning  # posed error and fitted weights for skinned LODs (addon/rig.py, addon/pure/skin_fit.py)
 
 __all__ = [
     "Options",

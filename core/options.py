@@ -34,7 +34,7 @@ class Options:
         quality rules relax only while the bound is not what holds the run back, and no
         part is removed (remove_small_components is ignored: a part removed is as far as
         can be). The area-sampled
-        Hausdorff distance (addon/measure.py) can come out somewhat above it, up to
+        Hausdorff distance (addon/pure/measure.py) can come out somewhat above it, up to
         about 1.4x on the meshes measured: points between the tracked ones.
       vertex_max_error: (n,) distances in mesh units (inf where free), or None: painted
         limits, a local max_error; for simplify_chain also (targets, n), one row per
@@ -59,7 +59,7 @@ class Options:
         flat region's cost is its line quadric alone and grows more slowly with the size
         of a collapse than a curved region's plane error, so the same factor makes it
         denser; the add-on uses 0.75, which gives both the same density gain (measured:
-        addon/importance.py).
+        addon/pure/importance.py).
       boundary_weight: weight of the planes through open boundary edges (0 turns them off).
       locked: (n,) bool, vertices that never move and are never removed.
       feature_edges: (k, 2) vertex pairs kept softly by dihedral-plane quadrics (Eq. 18-19)

@@ -3,7 +3,7 @@
 A LOD shades like its source when the normal the renderer interpolates at a point of the
 LOD is the one the source shows at the same place (issue 22 §3). This module has the
 geometry of that comparison; the closest-point search that pairs the places is
-addon/measure.py's (Blender's BVH tree).
+addon/pure/measure.py's (Blender's BVH tree).
 
     corner_normals(vertices, faces, smooth, sharp_edges) -> (m, 3, 3)
         Blender's shading normal of each triangle corner for a mesh without custom normals

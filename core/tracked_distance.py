@@ -18,7 +18,7 @@ the nearest), the new vertex and points of the new faces (centroid, new edges'
 midpoints) against the input triangles under the old fan. A collapse that takes any of
 them beyond the limit is rejected. The vertices' bounds are sure; the points are the
 tracked ones, and a face's bound is its sampled points', so the two-sided Hausdorff
-distance addon/measure.py samples over the areas can come out somewhat above the limit
+distance addon/pure/measure.py samples over the areas can come out somewhat above the limit
 (up to 1.44x on the meshes measured); callers that must be sure measure the result.
 
 All in the engine's normalised units (unit bounding-box diagonal). Every collapse is

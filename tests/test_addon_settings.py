@@ -1,4 +1,4 @@
-"""The settings table (addon/settings.py) and what is derived from it, without Blender."""
+"""The settings table (addon/pure/settings.py) and what is derived from it, without Blender."""
 from __future__ import annotations
 
 import argparse
@@ -7,8 +7,9 @@ import dataclasses
 import pytest
 
 import core
-from addon import settings as st
-from addon.settings import SETTINGS, LodError, LodSettings
+from addon.pure import settings as st
+from addon.pure.options import SWITCH_OF, core_options_of
+from addon.pure.settings import SETTINGS, CoreOption, LodError, LodSettings
 
 
 def test_lod_settings_are_the_table_plus_the_explicit_chain():
@@ -32,6 +33,60 @@ def test_preserve_pairs_name_a_switch_and_its_strength():
                                                  "preserve_materials"]
     for switch, strength in st.PRESERVE_PAIRS:
         assert st.BY_NAME[switch].kind is bool and st.BY_NAME[strength].kind is float
+
+
+MAPPED = [s for s in SETTINGS if isinstance(s.core, CoreOption)]
+
+
+def another_value(setting):
+    """A valid value of ``setting`` other than its default."""
+    if setting.kind is bool:
+        return not setting.default
+    for value in (setting.default * 0.5, setting.default + 1.0, setting.default * 2.0):
+        if value != setting.default and setting.problem(value) is None:
+            return setting.kind(value)
+    raise AssertionError(f"no other valid value for {setting.name}")
+
+
+def test_the_core_column_maps_the_shape_settings_onto_core_options():
+    # The rows that set a field of core.Options themselves (the rest act through code of
+    # their own, which addon/pure/settings.py's docstring lists).
+    assert sorted((s.name, s.core.field) for s in MAPPED) == sorted([
+        ("line_weight", "line_weight"), ("min_quality", "min_quality"), ("feature_angle", "feature_angle"),
+        ("remove_small_components", "remove_small_components"), ("boundary_strength", "boundary_weight"),
+        ("preserve_seams", "preserve_seams")])
+    assert len({s.core.field for s in MAPPED}) == len(MAPPED), "two settings set one field"
+    assert all(isinstance(s.core, str) for s in SETTINGS if s not in MAPPED)
+
+
+@pytest.mark.parametrize("setting", MAPPED, ids=lambda s: s.name)
+def test_each_mapped_setting_moves_its_options_field(setting):
+    """Changing the setting changes its field of the core.Options built from the settings,
+    and no other field."""
+    assert setting.core.field in core.Options.names()
+    before = core_options_of(LodSettings())
+    value = another_value(setting)
+    after = core_options_of(LodSettings(**{setting.name: value}))
+    assert getattr(after, setting.core.field) == setting.core.convert(value) != getattr(before, setting.core.field)
+    assert core.Options.of(after, **{setting.core.field: getattr(before, setting.core.field)}) == before
+
+
+def test_the_defaults_map_onto_the_cores_defaults():
+    assert core_options_of(LodSettings()) == core.Options()
+
+
+def test_a_preserve_switch_turns_its_strengths_field_off():
+    for s in MAPPED:
+        switch = SWITCH_OF.get(s.name)
+        if switch is None:
+            continue
+        off = core_options_of(LodSettings(**{switch: False, s.name: another_value(s)}))
+        assert getattr(off, s.core.field) == s.core.off
+    assert core_options_of(LodSettings(preserve_boundaries=False)).boundary_weight == 0.0
+
+
+def test_feature_angle_zero_turns_the_cores_off():
+    assert core_options_of(LodSettings(feature_angle=0.0)).feature_angle is None
 
 
 @pytest.mark.parametrize("setting", [s for s in SETTINGS if s.kind in (int, float)], ids=lambda s: s.name)

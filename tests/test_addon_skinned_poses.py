@@ -4,7 +4,7 @@ along z with three bones (elbow at z = 1, wrist at z = 2), parented with Automat
 
 Each LOD (5 %, same triangle count) is posed by the rig in four random poses (seeded
 quaternions, every bone turned by 20 to 50 degrees about a random axis) and measured against the posed source: two-sided
-mean distance, % of the bounding-box diagonal (addon/measure.py). One Blender child runs
+mean distance, % of the bounding-box diagonal (addon/pure/measure.py). One Blender child runs
 everything; the tests check its RESULT.
 """
 import pytest

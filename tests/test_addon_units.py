@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from addon import edges, importance
-from addon.settings import LodError, LodSettings
+from addon.pure import edges, importance
+from addon.pure.settings import LodError, LodSettings
 from mesh_builders import grid
 
 

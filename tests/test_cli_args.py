@@ -9,7 +9,7 @@ import pytest
 
 from addon.headless import arguments, inputs, report
 from addon.headless.errors import UsageError
-from addon.settings import LodError, LodSettings, flagged
+from addon.pure.settings import LodError, LodSettings, flagged
 from bpy_harness import REPO_ROOT, isolated_blender_env
 
 REQUIRED_OPTIONS = ["--input", "--objects", "--ratios", "--faces", "--output", "--output-dir", "--report",

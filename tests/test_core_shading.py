@@ -1,6 +1,6 @@
 """core.shading: Blender's corner normals, the closest point on a triangle, the normal
 interpolated there and the angle statistics the normal deviation reports (issue 22 §3).
-Pure NumPy: the closest-point search over a whole mesh is addon/measure.py's, tested in
+Pure NumPy: the closest-point search over a whole mesh is addon/pure/measure.py's, tested in
 tests/test_measure.py."""
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Deviation targets fall back to the ladder where the core's tracked bound finds no level
-(addon/deviation_search.py by_deviation; the scenario replaces the tracked search by one that finds
+(addon/pure/deviation_search.py by_deviation; the scenario replaces the tracked search by one that finds
 nothing)."""
 import pytest
 

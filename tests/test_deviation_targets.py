@@ -1,4 +1,4 @@
-"""addon/deviation_targets.py: the rung ladder and the bisection that picks, for each
+"""addon/pure/deviation_targets.py: the rung ladder and the bisection that picks, for each
 requested deviation, the coarsest measured level within it."""
 from types import SimpleNamespace
 
@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from addon import deviation_targets as dt
+from addon.pure import deviation_targets as dt
 
 
 def test_ladder_steps_down_geometrically_to_the_floor():

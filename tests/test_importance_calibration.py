@@ -1,6 +1,6 @@
 """The Importance Strength slider's calibration (issue 19), on grids built here.
 
-addon/importance.py turns a strength into a factor on the painted vertices' quadrics
+addon/pure/importance.py turns a strength into a factor on the painted vertices' quadrics
 (paper Sec. 4.4.1), calibrated so that a fully painted region comes out a given number
 of times denser than the rest at 10 % (bench/importance_calibration.py). Checked on the
 issue's setup, a 120 x 120 grid with a painted disc of radius 0.35 taken to 10 %, both
@@ -16,7 +16,7 @@ flat and as a curved sheet (where the plane error, not the line quadric, sets th
   * on the curved sheet at the default, the disc's deviation is at most half that of the
     run without importance (the issue's "keep what works on curved meshes").
 
-Pure NumPy (core + addon/importance.py); the run through Blender's operator is in
+Pure NumPy (core + addon/pure/importance.py); the run through Blender's operator is in
 tests/test_addon_importance.py.
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ import pytest
 
 import core
 import mesh_builders
-from addon import importance
+from addon.pure import importance
 
 RATIO = 0.1
 STRENGTHS = (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)
@@ -132,7 +132,7 @@ def test_expected_gain_holds_within_a_factor_of_two(runs):
 
 
 def test_one_meaning_on_flat_and_curved():
-    # With the line quadric scaled by the factor ** 0.75 (addon/importance.py) the two
+    # With the line quadric scaled by the factor ** 0.75 (addon/pure/importance.py) the two
     # are within 0.75-1.3x of each other up to 0.75 (measured); scaling the whole quadric
     # gave a flat region 1.4x the curved gain at 0.75 and 2.5x at 0.9 on the bench.
     flat, curved = measured("flat")["strength"], measured("curved")["strength"]

@@ -1,6 +1,6 @@
 """Shape keys as importance and in the report (issue 34), without Blender: the importance
-from the keys' offsets (addon/importance.py), what each key moves the vertices by
-(addon/key_deviation.py), and the core scaling a vertex's keyed error with its importance."""
+from the keys' offsets (addon/pure/importance.py), what each key moves the vertices by
+(addon/pure/key_deviation.py), and the core scaling a vertex's keyed error with its importance."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -12,9 +12,9 @@ from hypothesis.extra.numpy import arrays
 
 import core
 import mesh_builders as build
-from addon import importance as imp
-from addon import key_deviation
-from addon.deviation_search import report_samples
+from addon.pure import importance as imp
+from addon.pure import key_deviation
+from addon.pure.deviation_search import report_samples
 
 
 def offsets_strategy(max_keys=4, max_vertices=40):

@@ -1,4 +1,4 @@
-"""addon/level_deviation.py without Blender: the statistics per material and painted
+"""addon/pure/level_deviation.py without Blender: the statistics per material and painted
 region, the heat map's distance per vertex and its colours, the frames a rig is posed at."""
 from types import SimpleNamespace
 
@@ -8,10 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from addon import level_deviation as ld
+from addon.pure import level_deviation as ld
 from addon.headless import report
-from addon.measure import Sampled
-from addon.mesh_data import MeshData
+from addon.pure.measure import Sampled
+from addon.pure.mesh_data import MeshData
 
 distances = hnp.arrays(np.float64, st.integers(0, 60), elements=st.floats(0.0, 10.0, allow_subnormal=False))
 
@@ -219,7 +219,7 @@ def test_the_module_needs_no_blender():
 
     from bpy_harness import REPO_ROOT
 
-    code = "import sys; import addon.level_deviation, addon.mesh_data; assert 'bpy' not in sys.modules"
+    code = "import sys; import addon.pure.level_deviation, addon.pure.mesh_data; assert 'bpy' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, check=True, timeout=60)
 
 

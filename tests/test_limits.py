@@ -1,4 +1,4 @@
-"""addon/limits.py without Blender: the painted limit per vertex, per level in pixels,
+"""addon/pure/limits.py without Blender: the painted limit per vertex, per level in pixels,
 and the reruns' scaling (issue 34 §1)."""
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from addon import limits
+from addon.pure import limits
 
 
 def test_a_weight_over_the_limit_fades_to_free():

@@ -1,4 +1,4 @@
-"""addon/measure.py: surface deviation against cases with known answers.
+"""addon/pure/measure.py: surface deviation against cases with known answers.
 
 The sampling runs here in the test process (it is pure NumPy); everything that needs
 ``mathutils`` runs in one Blender child per session (tests/scenarios/measure_deviation.py),
@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from addon import measure
+from addon.pure import measure
 from bpy_harness import run_scenario
 from mesh_builders import grid, icosphere
 from mesh_checks import max_sagitta

@@ -1,6 +1,6 @@
 """docs/parameters.md's defaults and ranges against the settings table, without Blender.
 
-Each setting is defined once, as a row of ``SETTINGS`` (addon/settings.py); the page that
+Each setting is defined once, as a row of ``SETTINGS`` (addon/pure/settings.py); the page that
 documents every parameter is written by hand. The table is the truth: these tests fail when
 a setting is missing from the page, or the page gives it another default or range, so a
 change to the table cannot leave the page quietly stale (issue 32 §4).
@@ -14,7 +14,7 @@ from typing import NamedTuple, Optional
 
 import pytest
 
-from addon.settings import BY_NAME, LodSettings
+from addon.pure.settings import BY_NAME, LodSettings
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "parameters.md"
 

@@ -1,11 +1,11 @@
-"""addon/switch_distances.py: the switch points of a LOD chain from its measured error
+"""addon/pure/switch_distances.py: the switch points of a LOD chain from its measured error
 (no Blender: plain NumPy)."""
 import math
 
 import numpy as np
 import pytest
 
-from addon import switch_distances as sd
+from addon.pure import switch_distances as sd
 
 TAN30 = math.tan(math.radians(30.0))
 

@@ -5,7 +5,7 @@ Modules (one idea each). Those marked * need bpy and are imported only once the 
 and inputs have been checked, so a mistyped option or a missing file fails at once:
     errors        UsageError (bad command line) and InputError (one input fails)
     arguments     the parser and --help (the panel's settings' options from the settings
-                  table, addon/settings.py), checks argparse cannot make, the run's
+                  table, addon/pure/settings.py), checks argparse cannot make, the run's
                   LodSettings (its chain as --ratios/--faces give it), options back to argv
     inputs        file formats, --input expanded into files, one InputJob per input (bpy
                   only for the open .blend when there is no --input)

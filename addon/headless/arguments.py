@@ -4,7 +4,7 @@ LodSettings they give, and the way back from parsed options to an argument list 
 the --jobs children).
 
 The panel's settings are not written here: their options, defaults, help and range
-checks come from the settings table (addon/settings.py: add_arguments,
+checks come from the settings table (addon/pure/settings.py: add_arguments,
 argument_problems, settings_from_arguments), and the LOD chain is LodSettings' own
 (its explicit ratios or triangle_counts). Here are the options that are not panel
 settings: the chain as a list, the importance choice per object, inputs, outputs and
@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from ..settings import (IMPORTANCE_GROUP, parse_deviation, parse_limit, PRESERVE_PAIRS, LodSettings, add_arguments,
+from ..pure.settings import (IMPORTANCE_GROUP, parse_deviation, parse_limit, PRESERVE_PAIRS, LodSettings, add_arguments,
                         argument_problems, number, settings_from_arguments, whole_number)
 from .asset_task import SCHEDULER_ENV
 from .errors import UsageError

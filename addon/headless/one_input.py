@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 import traceback
 
-from ..settings import LodError
+from ..pure.settings import LodError
 from . import freshness, report, scene_files, sidecar, sources
 from .arguments import CHAIN_LABELS, RUN_OPTIONS, lod_settings
 from .console import Console
@@ -58,7 +58,7 @@ def name_chains(entries: list, lod_group: bool, asset: dict = None) -> None:
     import bpy
 
     from .. import lod_group as naming
-    from ..lod import armature_of
+    from ..rig import armature_of
 
     chains = {}
     for entry in entries:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import time
 
 from ..job import ObjectObserver
-from ..lod import progress_share
+from ..pure.compute import progress_share
 from .console import Console, duration
 
 
@@ -23,7 +23,7 @@ class TimeLeft:
     """
 
     PRIOR_SIMPLIFY = 5e-5  # s per triangle removed (2-core machine, bpy 4.5)
-    PRIOR_MEASURE = 0.5  # s per LOD measured at lod.DEVIATION_SAMPLES samples (fewer on small meshes)
+    PRIOR_MEASURE = 0.5  # s per LOD measured at deviation_search.DEVIATION_SAMPLES samples (fewer on small meshes)
 
     def __init__(self, inputs, later: float):
         # (An asset's parts get their targets when its budget is split: until then, all.)

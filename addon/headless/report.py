@@ -11,8 +11,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .._core import core
-from ..settings import LodSettings
+from ..pure._core import core
+from ..pure.settings import LodSettings
 from .arguments import lod_settings
 
 
@@ -148,14 +148,14 @@ def _breakdown_rows(files: list) -> list:
 
 
 def format_breakdown(files: list) -> str:
-    """The distance per material and painted region (addon/level_deviation.py), a table of
+    """The distance per material and painted region (addon/pure/level_deviation.py), a table of
     its own under the main one; "" when no level has any."""
     return _aligned(["File", "Object", "LOD", "Per", "Name", "Mean %", "P95 %", "Max %", "Samples"],
                     _breakdown_rows(files), left={0, 1, 2, 3, 4})
 
 
 def limit_lines(files: list) -> list:
-    """One line per LOD with a painted limit (addon/limits.py): how much of it the LOD uses."""
+    """One line per LOD with a painted limit (addon/pure/limits.py): how much of it the LOD uses."""
     lines = []
     for f in files:
         for obj in f["objects"]:

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The switch-data sidecar: ``<output stem>.lods.json`` beside an input's outputs, with
-every engine's switch numbers for each LOD chain (addon/switch_distances.py), the same
+every engine's switch numbers for each LOD chain (addon/pure/switch_distances.py), the same
 ones the --report JSON has per level. Written atomically, after the outputs; only when
 the deviation was measured (the numbers come from it).
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .. import switch_distances as sd
+from ..pure import switch_distances as sd
 from .report import write_json_atomically
 
 SUFFIX = ".lods.json"

@@ -7,7 +7,8 @@ rather than failing its input.
 """
 from __future__ import annotations
 
-from .. import lod
+from .. import lod_objects
+from .. import rig
 from .errors import InputError
 
 
@@ -16,7 +17,7 @@ def select_objects(scene, names) -> tuple:
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
-    meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod.LEVEL_PROP not in ob and ob not in widgets]
+    meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod_objects.LEVEL_PROP not in ob and ob not in widgets]
     if names:
         problems, picked = [], []
         for name in dict.fromkeys(names):
@@ -26,7 +27,7 @@ def select_objects(scene, names) -> tuple:
                 problems.append(f'object "{name}" not found (mesh objects: {available})')
             elif ob.type != 'MESH':
                 problems.append(f'"{name}" is not a mesh object (its type is {ob.type})')
-            elif lod.LEVEL_PROP in ob:
+            elif lod_objects.LEVEL_PROP in ob:
                 problems.append(f'"{name}" is a LOD made by an earlier run, not a source')
             else:
                 picked.append(ob)
@@ -49,7 +50,7 @@ def importance_choice(objects, args) -> list:
     for ob in objects:
         if group and group in ob.vertex_groups:
             choices.append(('VERTEX_GROUP', group, None))
-        elif args.from_armature and lod.armature_of(ob) is not None:
+        elif args.from_armature and rig.armature_of(ob) is not None:
             choices.append(('ARMATURE_PAPER' if args.from_armature == "paper" else 'ARMATURE', "", None))
         elif getattr(args, "from_shape_keys", False) and has_shape_keys(ob):
             choices.append(('SHAPE_KEYS', "", None))

@@ -27,7 +27,7 @@ DOC = REPO_ROOT / "docs" / "figures.md"
 SCRIPTS = ("fig_planar", "fig_weight_sweep", "fig_importance", "importance_calibration", "fig_pareto", "fig_skinned",
            "render", "fig_panel", "switch_distances", "fig_heat_map")
 # Where a script lives, where it is not next to this one: the calibration is a measurement
-# (addon/importance.py's table comes from it) that also draws a figure.
+# (addon/pure/importance.py's table comes from it) that also draws a figure.
 SCRIPT_PATHS = {"importance_calibration": "bench/importance_calibration.py"}
 # The doc a script's output block lives in, where it is not DOC.
 DOCS = {"fig_panel": REPO_ROOT / "docs" / "panel.md", "fig_heat_map": REPO_ROOT / "docs" / "panel.md",

@@ -28,9 +28,9 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import LinearSegmentedColormap
 from mathutils import Vector
 
-from addon import level_deviation
+from addon.pure import level_deviation
 from addon.job import LodJob
-from addon.settings import LodSettings
+from addon.pure.settings import LodSettings
 from blender_reference import stdout_to_stderr
 from render import _look_rotation
 

@@ -6,10 +6,10 @@ A flat grid of 120 x 120 quads (121 x 121 = 14,641 vertices, 28,800 triangles) w
 0), taken to 10 %:
   * ours at three strengths of the add-on's Importance slider: 0.1 (a subtle preference),
     the default 0.5 and 1 (the top, near locking); the painted vertices' quadrics are
-    scaled by a factor calibrated on density (Sec. 4.4.1, addon/importance.py);
+    scaled by a factor calibrated on density (Sec. 4.4.1, addon/pure/importance.py);
   * hard lock: core's ``locked=`` on the painted vertices (they can never move or go);
   * Blender's Decimate (Collapse, ratio 0.1) with the same vertex group, plain and inverted.
-The importance arrays come from addon/importance.py, exactly as the panel computes them.
+The importance arrays come from addon/pure/importance.py, exactly as the panel computes them.
 For each: the triangles left, the stop reason, and the vertex density (vertices per unit
 area) inside and outside the disc.
 """
@@ -23,7 +23,7 @@ import numpy as np
 from matplotlib.patches import Circle
 
 import core
-from addon.importance import DEFAULT_STRENGTH, controls
+from addon.pure.importance import DEFAULT_STRENGTH, controls
 from blender_reference import mesh_arrays, mesh_from_arrays, stdout_to_stderr
 from synthetic_meshes import grid
 

@@ -49,7 +49,7 @@ import addon
 import core
 import render as rd
 from addon import panel, sample, vertex_groups
-from addon.settings import LodSettings
+from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays, stdout_to_stderr
 from ui_recorder import record_panel, walk
 
@@ -367,7 +367,7 @@ def preview(recording: dict) -> str:
 def greyed(recording: dict) -> list:
     """The greyed-out widgets, by their text, or for a property drawn without one (text=""),
     its label in the settings table."""
-    from addon.settings import SETTINGS
+    from addon.pure.settings import SETTINGS
 
     labels = {setting.name: setting.label for setting in SETTINGS}
     return [item["text"] or labels.get(item.get("prop"), item.get("prop"))

@@ -12,7 +12,7 @@ stanford-bunny (a procedural bumpy sphere when absent) to 10 %:
   * the probabilistic-quadric regulariser (Trettner & Kobbelt 2020) in place of ours:
     core.simplify(line_weight=0, probabilistic_sigma=sigma) over a sweep of sigma;
   * Blender's Decimate (one point: it has no such weight).
-Each run is measured the same way (addon/measure.py: two-sided Hausdorff and mean
+Each run is measured the same way (addon/pure/measure.py: two-sided Hausdorff and mean
 distance in % of the bounding-box diagonal; core.quality_summary for q). Points further
 right (better triangles) and lower (closer to the input) are better.
 """
@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter
 
 import core
-from addon.measure import mesh_report
+from addon.pure.measure import mesh_report
 from blender_reference import decimate
 from fig_weight_sweep import RATIO, load_input
 from peers import meshlab_or_none, meshlab_simplify

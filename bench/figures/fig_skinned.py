@@ -18,12 +18,12 @@ bpy module, each LOD posed by the same armature at 10 frames of the Fox's "Run" 
     LOD object gets its vertex groups and its own Armature modifier. Every other setting
     is the add-on's default (UV seams, sharp edges, boundaries kept);
   * ours, Armature (Paper): source ARMATURE_PAPER, the paper's w_i = min(0.15 (1 - s_i), 0.1)
-    over its cap as the importance g, acting like painted importance (addon/importance.py);
+    over its cap as the importance g, acting like painted importance (addon/pure/importance.py);
   * ours, no importance: the same with importance source NONE;
   * both again with UV Seams off, because Blender's Decimate does not keep seams either;
   * Blender's Decimate (Collapse, default settings) inserted between the Subdivision
     Surface and the Armature modifier, so Blender's LOD is skinned by its own weights.
-Deviation: two-sided Hausdorff and mean distance (addon/measure.py) between each posed LOD
+Deviation: two-sided Hausdorff and mean distance (addon/pure/measure.py) between each posed LOD
 and the posed original, in % of the posed original's bounding-box diagonal; the same at
 rest for reference.
 """
@@ -42,9 +42,10 @@ from matplotlib.collections import PolyCollection
 from mathutils.bvhtree import BVHTree
 
 import core
-from addon import lod
-from addon.measure import surface_deviation
-from addon.settings import LodSettings
+from addon import lod, rig
+from addon.lod_objects import SOURCE_PROP
+from addon.pure.measure import surface_deviation
+from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays, stdout_to_stderr
 
 RATIO = 0.1
@@ -54,7 +55,7 @@ SUBDIV_LEVELS = 2
 def load_fox(path):
     with stdout_to_stderr():
         bpy.ops.import_scene.gltf(filepath=str(path))
-    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and lod.armature_of(ob) is not None)
+    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and rig.armature_of(ob) is not None)
     for ob in list(bpy.data.objects):  # the importer's camera, light and bone-shape helpers
         if ob.type in ("MESH", "CAMERA", "LIGHT") and ob != fox:
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -66,7 +67,7 @@ def load_fox(path):
     sub = fox.modifiers.new("Subdivision", "SUBSURF")
     sub.levels = sub.render_levels = SUBDIV_LEVELS
     fox.modifiers.move(len(fox.modifiers) - 1, 0)  # before the Armature modifier
-    return fox, lod.armature_of(fox)
+    return fox, rig.armature_of(fox)
 
 
 def world_arrays(ob):
@@ -107,9 +108,9 @@ def make_lod(fox, arm, label, source, **overrides):
     if level["stop_reason"] != core.STOP_TARGET:
         sys.exit(f"{label}: the add-on stopped early: {report['warnings']}")
     ob = bpy.data.objects[level["name"]]
-    if lod.armature_of(ob) is not arm:
+    if rig.armature_of(ob) is not arm:
         sys.exit(f"{ob.name} is not deformed by {arm.name}: the add-on did not copy the Armature modifier")
-    del ob[lod.SOURCE_PROP]  # so the next generate_lods run does not replace this LOD
+    del ob[SOURCE_PROP]  # so the next generate_lods run does not replace this LOD
     ob.name = label
     return ob, level["triangles"]
 

@@ -5,7 +5,7 @@
 stanford-bunny from ../shared/meshes (a procedural bumpy sphere when it is absent) taken
 to 10 % by core.simplify for w in {0, 1e-4, 1e-3, 1e-2, 1e-1}; for each: mean and minimum
 triangle quality, slivers, and the two-sided Hausdorff and mean surface distance to the
-input (addon/measure.py, Blender's BVH, in % of the bounding-box diagonal). Blender's
+input (addon/pure/measure.py, Blender's BVH, in % of the bounding-box diagonal). Blender's
 Decimate at the same ratio is drawn as a reference line.
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import core
-from addon.measure import mesh_report
+from addon.pure.measure import mesh_report
 from blender_reference import decimate, load_mesh
 from synthetic_meshes import bumpy_sphere
 

@@ -6,10 +6,10 @@ For each row, LODs at the same triangle count through the add-on (addon.lod.gene
 every other setting the default) with
   * none:   importance source None;
   * paper:  source Armature (the paper's mapping), w_i = min(0.15 (1 - s_i), 0.1) as
-            painted importance through the calibrated Strength slider (addon/importance.py);
+            painted importance through the calibrated Strength slider (addon/pure/importance.py);
 and Blender's Decimate (Collapse) inserted just before the Armature modifier, so it is
 skinned by Blender's own interpolated weights. Each is posed by the rig and measured
-against the posed original: two-sided mean distance (addon/measure.py), % of the posed
+against the posed original: two-sided mean distance (addon/pure/measure.py), % of the posed
 original's bounding-box diagonal, averaged over the row's poses; "rest" is the same at
 the rest pose. The ratios are with / without importance.
 
@@ -25,7 +25,7 @@ weights, 6,016 triangles, 19 bones):
   H1 25 %, 5 random poses
   H2 10 %, 5 random poses
   H3, H4  the same at Subdivision level 1 (1,504 triangles), 25 % and 10 %: 20 and 8
-          triangles a bone, where the poses need checking (addon/lod.py)
+          triangles a bone, where the poses need checking (addon/pure/skin_fit.py)
 Random poses: every bone turned about a random axis by an angle uniform in [0, 40 deg]
 (pose-bone quaternions, seeds 101..105). Without Fox.gltf only the humanoid's rows run.
 --sources takes further add-on importance sources by their enum name (e.g. a new
@@ -42,9 +42,10 @@ import bpy
 import humanoid
 import numpy as np
 
-from addon import lod
-from addon.measure import surface_deviation
-from addon.settings import LodSettings
+from addon import lod, rig
+from addon.lod_objects import SOURCE_PROP
+from addon.pure.measure import surface_deviation
+from addon.pure.settings import LodSettings
 from fig_skinned import load_fox, world_arrays
 from blender_reference import stdout_to_stderr
 
@@ -66,7 +67,7 @@ def import_fox(path, subdivide: bool, weld: bool):
         return fox, arm
     with stdout_to_stderr():
         bpy.ops.import_scene.gltf(filepath=str(path))
-    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and lod.armature_of(ob) is not None)
+    fox = next(ob for ob in bpy.data.objects if ob.type == "MESH" and rig.armature_of(ob) is not None)
     for ob in list(bpy.data.objects):
         if ob.type in ("MESH", "CAMERA", "LIGHT") and ob != fox:
             bpy.data.objects.remove(ob, do_unlink=True)
@@ -74,7 +75,7 @@ def import_fox(path, subdivide: bool, weld: bool):
         sub = fox.modifiers.new("Subdivision", "SUBSURF")
         sub.levels = sub.render_levels = 2
         fox.modifiers.move(len(fox.modifiers) - 1, 0)
-    return fox, lod.armature_of(fox)
+    return fox, rig.armature_of(fox)
 
 
 def rest(arm):
@@ -89,13 +90,13 @@ def make_lod(fox, arm, source, ratio, strength):
     report = lod.generate_lods(bpy.context.scene, fox, settings)
     level = report["levels"][0]
     ob = bpy.data.objects[level["name"]]
-    del ob[lod.SOURCE_PROP]  # keep it out of the next run's cleanup
+    del ob[SOURCE_PROP]  # keep it out of the next run's cleanup
     ob.name = f"LOD {source}"
     return ob, level["triangles"]
 
 
 def decimated(fox, triangles):
-    rest(lod.armature_of(fox))
+    rest(rig.armature_of(fox))
     m = len(world_arrays(fox)[1])
     ob = fox.copy()
     bpy.context.scene.collection.objects.link(ob)

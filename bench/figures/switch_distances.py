@@ -8,7 +8,7 @@ folder a subdivided Suzanne) through the add-on's own path: the command line's o
 ``--screen-size PX --lods N`` (addon/headless/arguments.py) give the LodSettings, and
 LodJob computes and commits the chain as the panel and the command line do. Each level's
 switch distance D_i is read back from the custom property ``lqlod_switch_distance`` of its
-object (the number the FBX, glTF and sidecar carry; addon/switch_distances.py).
+object (the number the FBX, glTF and sidecar carry; addon/pure/switch_distances.py).
 
 Then, per switch, the camera is put D_i from the source's bounds centre (the distance the
 engines measure), with the engines' view: θ = 60° vertical on a 1920 x 1080 frame (the
@@ -37,8 +37,8 @@ import numpy as np
 from matplotlib.patches import Rectangle
 from mathutils import Matrix, Vector
 
-from addon import lod as lod_module
-from addon import switch_distances
+from addon import lod_objects
+from addon.pure import switch_distances
 from addon.headless import arguments
 from addon.job import LodJob
 from blender_reference import load_mesh, stdout_to_stderr
@@ -109,7 +109,7 @@ def make_chain(source, args) -> list:
     for i, level in enumerate(levels):
         ob = bpy.data.objects[level["name"]]
         for key in ("switch_distance", "deviation"):
-            level[key] = float(ob[lod_module.switch_prop(key)])
+            level[key] = float(ob[lod_objects.switch_prop(key)])
         if i and not math.isclose(level["switch_distance"], report["levels"][i - 1]["switch_distance"]):
             raise RuntimeError(f"{level['name']}: the custom property and the report disagree")
     levels[0]["cull_distance"] = float(report["switch"]["cull_distance"])

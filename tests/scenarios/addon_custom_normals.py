@@ -120,7 +120,8 @@ def normal_deviations() -> dict:
     dropped (reset to what Blender computes from its smooth flags and sharp edges)."""
     lod_module = extension_module("addon.lod")
     mesh_io = extension_module("addon.mesh_io")
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
+    deviation_search = extension_module("addon.pure.deviation_search")
     out = {}
     for name in ("up", "weighted", "by_angle", "split"):
         remove_all_objects()
@@ -162,7 +163,7 @@ def normal_deviations() -> dict:
         def against_source(normals):
             return measure.normal_deviation(source.vertices, source.faces, source.corner_normals,
                                             lod.vertices, lod.faces, normals,
-                                            n_samples=lod_module.report_samples(len(source.faces)))
+                                            n_samples=deviation_search.report_samples(len(source.faces)))
 
         entry = {"has_custom": lod_mesh.has_custom_normals,
                  "report": [level[k] for k in ("normal_mean_degrees", "normal_p95_degrees")],

@@ -50,7 +50,7 @@ def preview(ob, inside) -> dict:
     select_only(ob)
     outcome = bpy.ops.object.line_quadric_lod_preview_importance()
     vertex_groups = extension_module("addon.vertex_groups")
-    importance = extension_module("addon.importance")
+    importance = extension_module("addon.pure.importance")
     w = vertex_groups.read_weights(ob.data, ["LOD_Importance_Preview", "LOD_Importance"])
     shown = {"result": sorted(outcome), "mode": ob.mode, "active": ob.vertex_groups.active.name,
              "inside": [float(w[inside, 0].min()), float(w[inside, 0].max())],

@@ -20,6 +20,8 @@ import numpy as np
 
 from addon import job as job_mod
 from addon import lod
+from addon.pure._core import core
+from addon.pure.settings import LodCancelled
 from scene_tools import array, commit_after_cancel, diff, mesh_hash
 
 RATIOS = (0.5, 0.25)
@@ -157,7 +159,7 @@ def run(blend_out: str = "") -> dict:
     result = {}
     build_scene(blend_out)
     compute_calls, simplify_calls = [], []
-    real_compute, real_simplify = lod.compute, lod.core.simplify_chain
+    real_compute, real_simplify = lod.compute, core.simplify_chain
 
     def counting_compute(lod_input, progress=None):
         compute_calls.append(lod_input.source_name)
@@ -168,7 +170,7 @@ def run(blend_out: str = "") -> dict:
         return real_simplify(*args, **kwargs)
 
     lod.compute = counting_compute
-    lod.core.simplify_chain = counting_simplify
+    core.simplify_chain = counting_simplify
     try:
         before = data_state()
 
@@ -177,7 +179,7 @@ def run(blend_out: str = "") -> dict:
         job = job_mod.LodJob(bpy.context, objects, settings)
         result["groups"] = job.groups
         result["inputs"] = [i.source_name for i in job.inputs]
-        result["cancel_raised"] = commit_after_cancel(job, lod.LodCancelled)
+        result["cancel_raised"] = commit_after_cancel(job, LodCancelled)
         result["cancel_changes"] = diff(before, data_state())
 
         # 2. Run to the end but never committed.
@@ -246,5 +248,5 @@ def run(blend_out: str = "") -> dict:
                                           for k in (1, 2)]
     finally:
         lod.compute = real_compute
-        lod.core.simplify_chain = real_simplify
+        core.simplify_chain = real_simplify
     return result

@@ -49,7 +49,7 @@ def state(ob) -> dict:
 
 def heat_of(mesh) -> dict:
     """The heat map a LOD mesh carries: its colour and distance attributes as arrays."""
-    ld = extension_module("addon.level_deviation")
+    ld = extension_module("addon.pure.level_deviation")
     color = mesh.color_attributes.get(ld.HEAT_ATTRIBUTE)
     dist = mesh.attributes.get(ld.DISTANCE_ATTRIBUTE)
     out = {"color": None if color is None else (color.domain, color.data_type, len(color.data)),
@@ -63,8 +63,8 @@ def heat_of(mesh) -> dict:
 
 def run_colors() -> dict:
     lod = extension_module("addon.lod")
-    ld = extension_module("addon.level_deviation")
-    measure = extension_module("addon.measure")
+    ld = extension_module("addon.pure.level_deviation")
+    measure = extension_module("addon.pure.measure")
     empty_scene()
     ob = bump_grid()
     before = state(ob)
@@ -153,8 +153,8 @@ def run_colors() -> dict:
     result["source_changed_by_view"] = {k: [generated[k], v] for k, v in state(ob).items() if generated[k] != v}
 
     # The defaults (the command line's and the panel's): no heat map, the breakdown still there.
-    result["default_setting"] = extension_module("addon.settings").LodSettings().deviation_colors
-    plain_rep = lod.generate_lods(bpy.context.scene, ob, extension_module("addon.settings").LodSettings(
+    result["default_setting"] = extension_module("addon.pure.settings").LodSettings().deviation_colors
+    plain_rep = lod.generate_lods(bpy.context.scene, ob, extension_module("addon.pure.settings").LodSettings(
         ratio=0.05, levels=1))
     plain_lod = bpy.data.objects[plain_rep["levels"][0]["name"]]
     result["default_heat"] = heat_of(plain_lod.data)["color"]
@@ -189,9 +189,9 @@ def bend_rig(rig, name: str, angle: float, frames=(1, 12, 24)):
 
 def run_posed() -> dict:
     lod = extension_module("addon.lod")
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
     posed_deviation = extension_module("addon.posed_deviation")
-    LodSettings = extension_module("addon.settings").LodSettings
+    LodSettings = extension_module("addon.pure.settings").LodSettings
     empty_scene()
     rig = three_bone_rig()
     ob, _, _ = capped_tube("Tube", lambda z: 0.2 + 0.03 * np.sin(z * 2.1) ** 2, around=32, rings=60)

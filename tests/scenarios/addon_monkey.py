@@ -13,6 +13,7 @@ from scene_tools import array, commit_after_cancel, diff, mesh_hash, extension_m
 
 lod = extension_module("addon.lod")
 job_mod = extension_module("addon.job")
+LodCancelled = extension_module("addon.pure.settings").LodCancelled
 
 
 def source_state(ob) -> dict:
@@ -169,13 +170,13 @@ def cancel(src, result: dict) -> None:
     try:
         lod.generate_lods(bpy.context, src, lod.LodSettings(ratio=0.2), progress=stop_after_two)
         result["cancel_raised"] = False
-    except lod.LodCancelled:
+    except LodCancelled:
         result["cancel_raised"] = True
     result["cancel_calls"] = len(calls)
     result["cancel_changes"] = diff(before, scene_state(src))
 
     job = job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.2))
-    result["job_cancel_raised"] = commit_after_cancel(job, lod.LodCancelled, 60)
+    result["job_cancel_raised"] = commit_after_cancel(job, LodCancelled, 60)
     result["job_cancel_changes"] = diff(before, scene_state(src))
 
     job = job_mod.LodJob(bpy.context, [src], lod.LodSettings(ratio=0.2, levels=1))

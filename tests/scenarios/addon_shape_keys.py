@@ -75,8 +75,8 @@ def choices(objects) -> list:
 
 def bake(ob) -> dict:
     """Importance from Shape Keys: the group it writes against the function it uses."""
-    importance = extension_module("addon.importance")
-    key_deviation = extension_module("addon.key_deviation")
+    importance = extension_module("addon.pure.importance")
+    key_deviation = extension_module("addon.pure.key_deviation")
     mesh_io = extension_module("addon.mesh_io")
     vertex_groups = extension_module("addon.vertex_groups")
     select_only(ob)

@@ -75,10 +75,10 @@ def decimated_copy(ob, ratio: float):
 
 def posed_against_decimate(rig, ob, V, skin, src_tris) -> dict:
     """Each importance source at 10 % and 3 %, measured posed, beside Decimate."""
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
     # The tube is symmetric, so many collapses tie exactly and the seed decides between them:
     # each asserted case runs with three seeds (the add-on always passes seed 0).
-    core_module = extension_module("addon._core").core
+    core_module = extension_module("addon.pure._core").core
     simplify_chain = core_module.simplify_chain
     seed_now = [0]
     core_module.simplify_chain = lambda *args, **kwargs: simplify_chain(*args, seed=seed_now[0], **kwargs)
@@ -129,7 +129,7 @@ def generate_while_posed(rig, ob, V, faces) -> dict:
     """Generating while posed, through a modifier stack (Subdivision after the Armature):
     the LOD is built from the rest shape (it gets its own Armature modifier), and the
     source's modifiers are left exactly as they were."""
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
     sub = ob.modifiers.new("Subdivision", 'SUBSURF')
     sub.levels = 1
     pose(rig, True)

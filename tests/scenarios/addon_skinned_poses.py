@@ -32,8 +32,9 @@ def set_pose(rig, seed) -> None:
 
 def run() -> dict:
     lod = extension_module("addon.lod")
-    measure = extension_module("addon.measure")
-    LodSettings = extension_module("addon.settings").LodSettings
+    measure = extension_module("addon.pure.measure")
+    LodSettings = extension_module("addon.pure.settings").LodSettings
+    SOURCE_PROP = extension_module("addon.lod_objects").SOURCE_PROP
     result = {}
     remove_all_objects()
     rig = three_bone_rig()
@@ -42,7 +43,7 @@ def run() -> dict:
 
     lods = {}
     # 5 %, and a coarse 0.6 % (15 triangles a bone, where Source Armature checks the
-    # level against one made without the poses: addon/skin_fit.py, skinned_levels).
+    # level against one made without the poses: addon/pure/skin_fit.py, skinned_levels).
     for source, ratio, key in (('NONE', 0.05, 'NONE'), ('ARMATURE', 0.05, 'ARMATURE'),
                                ('ARMATURE_PAPER', 0.05, 'ARMATURE_PAPER'),
                                ('NONE', 0.006, 'NONE_COARSE'), ('ARMATURE', 0.006, 'ARMATURE_COARSE')):
@@ -50,7 +51,7 @@ def run() -> dict:
         report = lod.generate_lods(bpy.context.scene, ob, LodSettings(
             ratio=ratio, levels=1, importance_source=source, measure_deviation=False))
         lod_ob = bpy.data.objects[report["levels"][0]["name"]]
-        del lod_ob[lod.SOURCE_PROP]  # keep it out of the next run's cleanup
+        del lod_ob[SOURCE_PROP]  # keep it out of the next run's cleanup
         lod_ob.name = key
         lods[key] = lod_ob
     result["triangles"] = {k: len(posed_triangles(L)[1]) for k, L in lods.items()}
@@ -70,21 +71,22 @@ def run() -> dict:
                 measure.surface_deviation(*source, *posed_triangles(lod_ob), n_samples=40_000)["mean_percent"])
     result["moved"] = min(moved)
     set_pose(rig, None)
-    result["forward_kinematics"] = forward_kinematics_check(rig, ob, lod)
+    result["forward_kinematics"] = forward_kinematics_check(rig, ob)
     return result
 
 
-def forward_kinematics_check(rig, ob, lod) -> list:
+def forward_kinematics_check(rig, ob) -> list:
     """The sample poses' maths (core.skinning) against Blender's own Armature deformation,
     with the armature moved, turned and scaled and the mesh given its own transform: the
     largest distance between the two posed meshes, relative to the mesh's size, per pose."""
-    skinning = extension_module("addon._core").core.skinning
+    skinning = extension_module("addon.pure._core").core.skinning
+    rig_arrays = extension_module("addon.rig").rig_arrays
     vertex_groups = extension_module("addon.vertex_groups")
     rig.location, rig.rotation_euler, rig.scale = (0.4, -1.2, 0.3), (0.3, -0.5, 1.1), (1.7, 1.7, 1.7)
     ob.matrix_parent_inverse = ob.matrix_parent_inverse @ mathutils_matrix((0.2, 0.1, -0.3), (0.0, 0.0, 0.4))
     bpy.context.view_layer.update()
     rest_v = np.array([v.co for v in ob.data.vertices], dtype=np.float64)
-    names, rest, parents, to_armature = lod.rig_arrays(ob, rig)
+    names, rest, parents, to_armature = rig_arrays(ob, rig)
     weights = vertex_groups.read_weights(ob.data, names)  # columns in the bones' order
     out = []
     for seed in (21, 22):

@@ -9,7 +9,7 @@ def run() -> dict:
     bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12)
     ob = bpy.context.active_object
     lod = extension_module("addon.lod")
-    targets = extension_module("addon.deviation_targets")
+    targets = extension_module("addon.pure.deviation_targets")
     tracked = targets.by_tracked_bounds
     calls = []
 

@@ -6,6 +6,7 @@ import bpy
 from scene_tools import empty_scene, extension_module, remove_all_objects
 
 lod = extension_module("addon.lod")
+switch_prop = extension_module("addon.lod_objects").switch_prop
 lod_group = extension_module("addon.lod_group")
 
 SWITCH_KEYS = ("deviation", "switch_distance", "msft_screen_coverage", "unreal_screen_size",
@@ -13,7 +14,7 @@ SWITCH_KEYS = ("deviation", "switch_distance", "msft_screen_coverage", "unreal_s
 
 
 def switch_props(ob) -> dict:
-    return {key: ob[lod.switch_prop(key)] for key in SWITCH_KEYS if lod.switch_prop(key) in ob}
+    return {key: ob[switch_prop(key)] for key in SWITCH_KEYS if switch_prop(key) in ob}
 
 
 def run(glb: str, fbx: str, unmeasured_glb: str) -> dict:
@@ -47,7 +48,7 @@ def run(glb: str, fbx: str, unmeasured_glb: str) -> dict:
     bpy.ops.mesh.primitive_monkey_add()
     src = bpy.context.active_object
     lod.generate_lods(bpy.context, src, lod.LodSettings(ratio=0.5, levels=2))
-    assert lod.switch_prop("switch_distance") in src
+    assert switch_prop("switch_distance") in src
     unmeasured = lod.generate_lods(bpy.context, src, lod.LodSettings(ratio=0.5, levels=2, measure_deviation=False))
     result["unmeasured"] = {"switch": unmeasured["switch"],
                             "props": [k for ob in bpy.data.objects for k in ob.keys() if k.startswith("lqlod_")]}

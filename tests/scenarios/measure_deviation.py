@@ -1,10 +1,10 @@
-"""addon/measure.py (the checkout's copy) on meshes the test wrote to an .npz file: known
+"""addon/pure/measure.py (the checkout's copy) on meshes the test wrote to an .npz file: known
 distances and normal angles, the mesh report, and what invalid input raises (tests/test_measure.py checks
 what this returns). Runs without the extension installed."""
 import numpy as np
 
 import core
-from addon import measure
+from addon.pure import measure
 from scene_tools import value_errors
 
 

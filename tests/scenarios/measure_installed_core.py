@@ -1,4 +1,4 @@
-"""The installed extension's addon/measure.py reaches its own core (tests/test_measure.py)."""
+"""The installed extension's addon/pure/measure.py reaches its own core (tests/test_measure.py)."""
 import sys
 
 import numpy as np
@@ -7,7 +7,7 @@ from scene_tools import extension_module
 
 
 def run() -> dict:
-    measure = extension_module("addon.measure")
+    measure = extension_module("addon.pure.measure")
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     f = np.array([[0, 1, 2], [1, 3, 2]])
     up = np.tile([0.0, 0.0, 1.0], (2, 3, 1))

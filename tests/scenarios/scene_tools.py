@@ -66,7 +66,7 @@ def value_errors(calls: dict) -> dict:
 
 def commit_after_cancel(job, cancelled, seconds: float = 120) -> bool:
     """Start ``job`` (a LodJob), cancel it, wait, and commit: whether the commit raised
-    ``cancelled`` (lod.LodCancelled of the module the job came from)."""
+    ``cancelled`` (the LodCancelled of the package the job came from)."""
     job.start()
     job.cancel()
     job.wait(seconds)

@@ -18,7 +18,7 @@ saved files and scripts use, so where the core follows the paper they differ, on
                                            --from-armature,
                                            --from-shape-keys
     Strength       importance_strength     --strength                quadric_scale = F(strength) ** g
-                                                                     (Sec. 4.4.1; addon/importance.py)
+                                                                     (Sec. 4.4.1; addon/pure/importance.py)
     Boundaries     preserve_boundaries,    --no-preserve-boundaries, boundary_weight (0 when off)
                    boundary_strength       --boundary-strength
     UV Seams       preserve_seams,         --no-preserve-seams,      preserve_seams, and seam edges in
@@ -29,12 +29,25 @@ saved files and scripts use, so where the core follows the paper they differ, on
 "Importance" always means g in [0, 1], painted or derived from the skin weights or the
 shape keys; the core
 never sees it, only the quadric scale it is turned into.
+
+The ``core=`` column is data where a setting sets one field of ``core.Options``: a
+:class:`CoreOption` (the field, how the value converts), which options.core_options_of
+reads; tests/test_addon_settings.py checks each one moves its field. Where a setting acts
+on the core indirectly, ``core=`` is a text saying how, and the code it names makes it:
+  * the Preserve switches of seams, sharp edges and material borders with their
+    strengths: feature_edges and edge_weights (options.mesh_options; preserve_seams is
+    also a field itself, and preserve_boundaries turns boundary_strength's field to 0);
+  * the importance settings: quadric_scale and the line weights, or the rig's
+    pose_offsets and pose_weight (options.mesh_options through importance.py);
+  * the painted limit: vertex_max_error (limits.py, set by prepare and compute);
+  * One Asset: each part's targets (core.budget, core.assembly; addon/asset.py, addon/job.py).
+Every other setting is the add-on's own (targets, switch distances, baking, the report).
 """
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
@@ -52,7 +65,7 @@ class LodCancelled(Exception):
 
 
 IMPORTANCE_GROUP = "LOD_Importance"  # the vertex group Paint Importance and the sample use
-LIMIT_GROUP = "LOD_Limit"  # the vertex group Paint Limit makes (addon/limits.py)
+LIMIT_GROUP = "LOD_Limit"  # the vertex group Paint Limit makes (addon/pure/limits.py)
 PREVIEW_GROUP = "LOD_Importance_Preview"  # where Preview Importance writes what it shows
 
 IMPORTANCE_SOURCES = (
@@ -104,7 +117,9 @@ class Setting:
     flag: the command-line option, or None; a bool that is on by default has a flag
       that turns it off (--no-preserve-seams, --keep-small-parts). cli: further argparse
       arguments (metavar, help with {default}).
-    what: how messages name it. core: the core option it becomes (documentation).
+    what: how messages name it.
+    core: the core option it becomes: a CoreOption, which sets that field of core.Options
+      (options.core_options_of), or a text saying how it acts on the core indirectly.
     strength: for a preserve_* switch, the name of the setting weighting it.
     """
 
@@ -122,7 +137,7 @@ class Setting:
     flag: Optional[str] = None
     cli: dict = field(default_factory=dict)
     what: str = ""
-    core: str = ""
+    core: Union["CoreOption", str] = ""
     strength: Optional[str] = None
 
     @property
@@ -156,16 +171,31 @@ class Setting:
         return f"{label} must be {bound}{self.unit}, got {value:g}"
 
 
-def _preserve(what, label, flag_name, tooltip, strength, strength_tooltip, core_option):
+@dataclass(frozen=True)
+class CoreOption:
+    """A setting that sets one field of core.Options: ``field`` gets ``convert(value)``;
+    for the strength of a Preserve switch, ``off`` while that switch is off."""
+
+    field: str
+    convert: Callable[[Any], Any]
+    off: Any = None
+
+
+def zero_is_off(value) -> Optional[float]:
+    """An angle where 0 turns the core's option off (None)."""
+    return float(value) or None
+
+
+def _preserve(what, label, flag_name, tooltip, strength, strength_tooltip, switch_core, strength_core):
     """A Preserve row's switch and strength (the four share their shape and range)."""
     return (
         Setting(f"preserve_{what}", True, label, tooltip, flag=f"--no-preserve-{what}",
-                cli={"help": f"do not preserve {flag_name}"}, core=core_option, strength=strength),
+                cli={"help": f"do not preserve {flag_name}"}, core=switch_core, strength=strength),
         Setting(strength, 1.0, "Strength", strength_tooltip, low=0.0,
                 blender={"soft_max": 10.0, "max": 1000.0},
                 flag=f"--{strength.replace('_', '-')}",
                 cli={"metavar": "S", "help": f"how strongly {flag_name} are kept (default 1)"},
-                core=core_option),
+                core=strength_core),
     )
 
 
@@ -232,7 +262,7 @@ SETTINGS = (
             flag="--line-weight",
             cli={"metavar": "W", "help": "line-quadric weight: higher gives more uniform triangles, lower a more "
                                          "faithful shape (default {default:g}; useful up to 0.1)"},
-            core="line_weight (w; per vertex line_weights, w_i)"),
+            core=CoreOption("line_weight", float)),
     Setting("min_quality", core.SLIVER_QUALITY, "Min Quality",
             "No collapse makes a triangle thinner than this quality (1 = equilateral): "
             "lower it (even to 0) for hard-surface parts that need their shape more than "
@@ -243,7 +273,7 @@ SETTINGS = (
             cli={"metavar": "Q", "help": "no collapse makes a triangle thinner than this quality, 0 to 1 (1 = "
                                          "equilateral; default {default:g}); 0 with --line-weight 0 gives "
                                          "the closest shape on hard-surface parts, at the cost of slivers"},
-            core="min_quality"),
+            core=CoreOption("min_quality", float)),
     Setting("feature_angle", core.features.DEFAULT_FEATURE_ANGLE, "Feature Angle",
             "Degrees: edges whose faces' normals differ by more than this are kept "
             "like sharp edges, and corners where three of them meet (or where an open "
@@ -254,14 +284,14 @@ SETTINGS = (
             cli={"metavar": "DEG", "help": "edges whose faces' normals differ by more than DEG degrees are kept "
                                            "like sharp edges, and their corners (and sharp turns of open "
                                            "borders) stay in place (default {default:g}; 0 = off)"},
-            core="feature_angle (0 becomes None: off)"),
+            core=CoreOption("feature_angle", zero_is_off)),
     Setting("remove_small_components", True, "Remove Small Parts",
             "When a target cannot be reached otherwise, delete the smallest separate parts "
             "(bolts, rivets, leaf cards) rather than stop above it; off keeps every part",
             flag="--keep-small-parts",
             cli={"help": "keep every separate part, even where a target cannot be reached otherwise "
                          "(by default the smallest parts, bolts and leaf cards, are deleted then)"},
-            core="remove_small_components"),
+            core=CoreOption("remove_small_components", bool)),
     # Importance: g in [0, 1] per vertex, from a vertex group, the skin weights or the shape keys.
     Setting("importance_source", 'NONE', "Importance", "Where the per-vertex importance comes from",
             items=IMPORTANCE_SOURCES, core="(chooses g)"),
@@ -274,14 +304,14 @@ SETTINGS = (
             low=0.0, high=1.0, blender={"subtype": 'FACTOR'}, flag="--strength",
             cli={"metavar": "S", "help": "importance strength, 0 to 1: about 1.5x as dense at 0.1, 4.5x at 0.5, "
                                          "nearly locked at 1 (default {default:g})"},
-            core="quadric_scale = F(strength) ** g (addon/importance.py)"),
-    # Painted limits (issue 34, addon/limits.py): how far the LOD may move, not how dense it stays.
+            core="quadric_scale = F(strength) ** g (addon/pure/importance.py)"),
+    # Painted limits (issue 34, addon/pure/limits.py): how far the LOD may move, not how dense it stays.
     Setting("limit_group", "", "Limit Group",
             "Vertex group painting how far the LOD may move: where its weight is 1 every LOD stays "
             "within Limit of the source, at 0 the region is free, in between the limit grows as "
             "1 / weight. The triangle target is met elsewhere; when the limit makes it unreachable "
             "the LOD stops above it and says so",
-            core="vertex_max_error = limit / weight (addon/limits.py)"),
+            core="vertex_max_error = limit / weight (addon/pure/limits.py)"),
     Setting("limit_distance", 0.1, "Limit",
             "The largest distance to the source where the Limit Group's weight is 1, in percent "
             "of the object's bounding-box diagonal (the whole asset's when several objects are one "
@@ -290,7 +320,7 @@ SETTINGS = (
             what="limit", core="vertex_max_error"),
     Setting("limit_unit", 'PERCENT', "Limit Unit", "What Limit is measured in",
             items=LIMIT_UNITS, core="(percent of the diagonal, scene units, or pixels at the switch distance)"),
-    # Unused since issue 19 (one calibrated mode, addon/importance.py): accepted so older
+    # Unused since issue 19 (one calibrated mode, addon/pure/importance.py): accepted so older
     # scripts, files and the command line's --mode keep working.
     Setting("importance_mode", 'SOFT', "Mode", "No longer used (one calibrated mode); kept so older files load",
             items=IMPORTANCE_MODES, flag="--mode",
@@ -299,19 +329,19 @@ SETTINGS = (
     # Preserve: each switch with the strength of the planes that hold it.
     *_preserve("boundaries", "Boundaries", "open boundaries", "Keep open boundaries (holes, borders) in place",
                "boundary_strength", "Weight of the planes that hold open boundaries (1 = as strong as the surface)",
-               "boundary_weight (0 when off)"),
+               "(boundary_weight: its strength's, 0 when off)", CoreOption("boundary_weight", float, off=0.0)),
     *_preserve("seams", "UV Seams", "UV seams",
                "Keep UV seams: seam vertices only slide along the seam, UVs never flip",
                "seam_strength", "Extra weight holding seam edges in place (paper Sec. 4.4.2)",
-               "preserve_seams; seam edges in feature_edges, edge_weights (w_ij)"),
+               CoreOption("preserve_seams", bool), "seam edges in feature_edges, edge_weights (w_ij)"),
     *_preserve("sharp", "Sharp Edges", "sharp edges",
                "Keep edges marked sharp (paper Sec. 4.4.2, dihedral-plane quadrics)",
                "sharp_strength", "Weight holding sharp edges in place",
-               "sharp edges in feature_edges, edge_weights (w_ij)"),
+               "sharp edges in feature_edges", "their edge_weights (w_ij)"),
     *_preserve("materials", "Material Borders", "material borders",
                "Keep the borders between faces of different materials",
                "material_strength", "Weight holding material borders in place",
-               "material borders in feature_edges, edge_weights (w_ij)"),
+               "material borders in feature_edges", "their edge_weights (w_ij)"),
     # Run.
     Setting("use_modifiers", True, "Apply Modifiers",
             "Simplify the mesh as the modifiers make it (Armature modifiers excepted: "
@@ -498,7 +528,7 @@ def parse_deviation(text: str) -> tuple:
 
 def parse_limit(text: str) -> tuple:
     """ "0.2%" -> (0.2, 'PERCENT'), "0.5px" -> (0.5, 'PIXELS'), "0.01" -> (0.01,
-    'DISTANCE'): a painted limit (addon/limits.py). ValueError for anything else."""
+    'DISTANCE'): a painted limit (addon/pure/limits.py). ValueError for anything else."""
     text = str(text).strip()
     unit = 'PIXELS' if text.lower().endswith("px") else 'PERCENT' if text.endswith("%") else 'DISTANCE'
     number = text[:-2] if unit == 'PIXELS' else text[:-1] if unit == 'PERCENT' else text
@@ -528,7 +558,7 @@ LodSettings = dataclasses.make_dataclass(
         # Or a chain by deviation (the command line's --max-error): per LOD the largest
         # measured distance to the source allowed, (value, True) in percent of the
         # source's bounding-box diagonal or (value, False) in scene units
-        # (addon/deviation_targets.py makes it).
+        # (addon/pure/deviation_targets.py makes it).
         ("max_deviations", Optional[tuple], None),
     ],
     bases=(_LodSettingsMethods,),

@@ -11,7 +11,7 @@ needlessly close).
 
 Fallback, for levels no tracked run brings within: one progressive run snapshots a ladder
 of ever coarser levels (each ``LADDER_STEP`` times the triangles of the one before), and
-a bisection over the ladder estimates the two-sided Hausdorff distance (addon/measure.py
+a bisection over the ladder estimates the two-sided Hausdorff distance (addon/pure/measure.py
 with fewer samples) of a few of them, and the coarsest within the bound is then measured
 as the report measures it; should that say "beyond" after all, the next finer rung is.
 Distance grows close to monotonically as triangles go, so about log2(levels) estimates
@@ -55,7 +55,7 @@ QUICK_SAMPLES = 50_000
 # (fandisk, 0.05 / 0.2 %): 1,054 / 370 triangles with the controls alone (1.08x / 0.98x
 # Decimate's), 828 / 320 lean, with 17 / 13 % slivers against Decimate's 28 / 25 %. On
 # organic meshes the two differ by 1-2 %. Not with importance or a rig (their own
-# line weights are the artist's control, addon/importance.py).
+# line weights are the artist's control, addon/pure/importance.py).
 LEAN_LINE_WEIGHT = 0.1  # times the line weight
 LEAN_MIN_QUALITY = 0.5  # times the sliver floor
 # The lean level is kept only where it saves this share of the triangles: its thinner

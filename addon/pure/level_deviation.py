@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Where a LOD differs from its source (issue 34 §3): per vertex for the heat map, per
 material and painted region for the report, and over the rig's frames for a skinned LOD.
-Free of bpy: functions of arrays (and of lod.py's LodInput and MeshData, read as arrays).
+Free of bpy: functions of arrays (and of phases.LodInput and MeshData, read as arrays).
 
 Everything here reuses the points the level report already measures
 (measure.surface_deviation(keep_samples=True): a :class:`measure.Sampled`); nothing is
@@ -278,7 +278,7 @@ def posed_summary(hausdorff: list, mean: list) -> dict:
 
 def measure_level(lod_input, level, report: dict, index: int = 0) -> tuple:
     """What the level report adds for a measured ``level`` (a MeshData) of ``lod_input``
-    (lod.LodInput) whose measurement ``report`` kept its samples (``sampled``); ``index``:
+    (phases.LodInput) whose measurement ``report`` kept its samples (``sampled``); ``index``:
     the level's place in the chain (0 for LOD1): (the level,
     with the heat map's attributes when the settings ask for them, and the entries for the
     report: materials, regions, deviation_colors). A report without samples adds nothing."""
@@ -311,7 +311,7 @@ def share_scales(chains: list) -> None:
     has one, is coloured again from 0 to the largest distance, in scene units, of that
     level over all the parts; its report entry says so (``shared``: "asset").
 
-    chains: [(lod.LodOutput, unit)], each output once (objects sharing its meshes share
+    chains: [(phases.LodOutput, unit)], each output once (objects sharing its meshes share
     its colours), ``unit`` the scene units per unit of its object (asset.world_scale)."""
     largest = {}
     for out, unit in chains:

@@ -9,8 +9,8 @@ coarsest rung measured within it refined between rungs (a second run). Every lev
 is measured as the report measures it (``deviation_report``, at ``report_samples``), so
 its reported number is the one the search compared with the bound.
 
-lod.compute() calls in here with the run's lod.LodInput and its ways of running the
-core; this module does not import lod.py (which imports it).
+compute.py calls in here with the run's phases.LodInput and its ways of running the
+core; this module does not import compute.py (which imports it).
 """
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def deviation_report(data, level, normals=None, part_samples: Optional[int] = No
     """measure.mesh_report of ``level`` against the source, as the report measures it
     (``normals``: (source's, level's) corner normals, for the shading deviation too), with
     its points kept (``sampled``: the report's breakdown per material and region and the
-    heat map use them, addon/level_deviation.py)."""
+    heat map use them, addon/pure/level_deviation.py)."""
     return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
                                n_samples=(report_samples(len(data.faces), part_samples),
                                           report_samples(len(level.faces), part_samples)),
@@ -73,9 +73,9 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     measured within it (deviation_targets.choose_levels), refined between rungs. A
     deviation neither meets is left out with a warning, and none met is a LodError.
 
-    ``simplify(targets, **options)``: the core run on ``lod_input`` (lod.compute's, which
+    ``simplify(targets, **options)``: the core run on ``lod_input`` (compute.py's, which
     moves the progress bar); ``simplify_with_progress(lod_input, targets, progress)``:
-    the same with a progress callback of its own (lod._simplify; the refinement's run)."""
+    the same with a progress callback of its own (compute.simplify_chain; the refinement's run)."""
     data = lod_input.data
     measured = {}
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Where each LOD may switch in, from its measured deviation, in every engine's terms.
 
-No bpy here: floats and NumPy arrays in and out (lod.py passes Blender's numbers in).
+No bpy here: floats and NumPy arrays in and out (commit.py passes Blender's numbers in).
 
 The idea: LOD i differs from the source by at most ε_i (its measured two-sided Hausdorff
 distance, scene units). Seen from distance D with a perspective camera of vertical field
@@ -61,7 +61,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 # The view's defaults: the settings pixel_error, screen_height and vertical_fov
-# (addon/settings.py; --pixel-error, --screen-height, --fov) start from them.
+# (addon/pure/settings.py; --pixel-error, --screen-height, --fov) start from them.
 DEFAULT_PIXEL_ERROR = 1.0  # τ: the largest error allowed on screen, pixels
 DEFAULT_SCREEN_HEIGHT = 1080  # H: the screen's height, pixels (1080p)
 DEFAULT_VERTICAL_FOV_DEGREES = 60.0  # θ: the camera's vertical field of view, degrees

@@ -10,8 +10,8 @@ to it as it can. At a few triangles a bone the poses in the error stop paying (a
 ``skinned_levels`` also makes such a level without them and keeps whichever of the two
 follows the source closer in further check poses (CHECK_POSES, never fitted to).
 
-lod.compute() calls in here with the run's lod.LodInput (its ``poses`` and
-``check_poses`` made by lod.prepare); this module does not import lod.py (which imports it).
+compute.py calls in here with the run's phases.LodInput (its ``poses`` and
+``check_poses`` made by lod.prepare); this module does not import compute.py (which imports it).
 """
 from __future__ import annotations
 
@@ -43,7 +43,7 @@ def skinned_levels(lod_input, results: list, simplify, may_remake: bool, tick) -
     level (COARSE_TRIANGLES_PER_BONE) is also made without the poses in the error and
     fitted, and of the two the one that follows the source closer in the check poses is
     kept (``may_remake``: not for a chain by deviation, whose levels were measured).
-    ``simplify(targets, **options)``: the core run on ``lod_input`` (lod.compute's).
+    ``simplify(targets, **options)``: the core run on ``lod_input`` (compute.py's).
     ``tick()`` before each level's fit lets Esc in between."""
     bones = max(len(lod_input.names["skin"]), 1)
     coarse = [may_remake and len(r.faces) < COARSE_TRIANGLES_PER_BONE * bones for r in results]

@@ -43,8 +43,9 @@ report (50,000 samples, default chain of 3 LODs) measured 9 % longer on the bunn
 11 % on the ogre with them; ``normal_deviation`` on its own queries again, 26-47 % of a
 two-sided distance measurement.
 
-``mathutils`` is imported inside the functions so this module can be imported without
-Blender (documentation, type checks); only calling it needs bpy's mathutils.
+The closest-point tree is the one thing here that needs Blender (``mathutils``): it is
+handed in (``set_tree_builder``; addon/bvh.py builds it), so this module imports without
+Blender and its sampling and statistics run anywhere; measuring needs bpy's mathutils.
 """
 from __future__ import annotations
 
@@ -71,7 +72,7 @@ _RADIUS_FACTOR = 2.0
 @dataclass
 class Sampled:
     """What surface_deviation(keep_samples=True) measured point by point, for reports that
-    break the distance down (addon/level_deviation.py) without querying again.
+    break the distance down (addon/pure/level_deviation.py) without querying again.
 
     Per direction (src_: src's points measured against dst; dst_: dst's against src),
     for each area-uniform sample: ``triangle`` (k,) of its own surface it lies on and its
@@ -166,10 +167,26 @@ def _sample_surface(vertices, faces, n: int, rng: np.random.Generator) -> tuple:
     return points, tri, bary
 
 
-def _build_tree(v: np.ndarray, f: np.ndarray):
-    from mathutils.bvhtree import BVHTree
+# How a surface becomes a tree that answers closest-point queries: Blender has the tree
+# (mathutils.bvhtree.BVHTree, addon/bvh.py), so it is handed in (set_tree_builder, which
+# the add-on's package calls on import) and this module imports nothing of Blender's.
+_tree_builder = None
 
-    return BVHTree.FromPolygons(v.tolist(), f.tolist(), all_triangles=True)
+
+def set_tree_builder(build) -> None:
+    """Measure through ``build(vertices (n, 3) float64, faces (m, 3) int64)``: a tree of the
+    surface's triangles with mathutils BVHTree's ``find_nearest(point, distance=inf)``
+    (location, normal, triangle index, distance; all None when nothing is within
+    ``distance``)."""
+    global _tree_builder
+    _tree_builder = build
+
+
+def _build_tree(v: np.ndarray, f: np.ndarray):
+    if _tree_builder is None:
+        raise RuntimeError("no closest-point tree to measure with: the add-on's package installs "
+                           "Blender's on import (addon/bvh.py)")
+    return _tree_builder(v, f)
 
 
 def _distances(tree, points: np.ndarray, with_faces: bool = False):
@@ -461,19 +478,10 @@ def mesh_report(src_v, src_f, dst_v, dst_f, **deviation_options) -> dict:
     Keys: everything surface_deviation returns, plus mean_quality, min_quality,
     sliver_percent (core.quality_summary of dst), src_faces, dst_faces.
     """
-    # At runtime addon/ and core/ are subpackages of the extension's root package, so the
-    # relative import is the right one there. Tests and benches put the repository root
-    # on sys.path and import ``addon`` as a top-level package, which has no parent for
-    # ``..`` to reach; there ``core`` is itself top-level. Deciding by the package name
-    # (rather than by catching ImportError) keeps a real import error in core visible.
-    # Imported here, not at module level, so surface_deviation works without core.
-    if __package__ and "." in __package__:
-        from ..core import quality_summary
-    else:
-        from core import quality_summary
+    from ._core import core  # (here, as elsewhere in this module: surface_deviation works without core)
 
     report = surface_deviation(src_v, src_f, dst_v, dst_f, **deviation_options)
-    report.update(quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
+    report.update(core.quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
     report["src_faces"] = int(np.shape(src_f)[0])
     report["dst_faces"] = int(np.shape(dst_f)[0])
     return report

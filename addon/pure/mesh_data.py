@@ -1,13 +1,15 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The arrays a mesh is read into and written from (mesh_io.py does both with bpy): a
-triangulated mesh and what it carries. Free of bpy, so what works on them (lod.py's
-compute, level_deviation.py) can be used and tested without Blender."""
+triangulated mesh and what it carries. Free of bpy, so what works on them (compute.py,
+level_deviation.py) can be used and tested without Blender."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
+
+from ._core import core
 
 
 @dataclass
@@ -76,10 +78,20 @@ class MeshData:
     corner_normals: Optional[np.ndarray] = None
     # Written onto the mesh build_mesh makes, not read back: float attributes on the
     # points, {name: (n,)}, and custom properties of the mesh datablock, {name: value}
-    # (a LOD's heat map: addon/level_deviation.py).
+    # (a LOD's heat map: addon/pure/level_deviation.py).
     point_floats: dict = field(default_factory=dict)
     mesh_properties: dict = field(default_factory=dict)
 
     @property
     def has_shape_keys(self) -> bool:
         return bool(self.shape_keys)
+
+
+def shading_normals(data: MeshData) -> np.ndarray:
+    """(m, 3, 3) the corner normals Blender gives the mesh addon/mesh_io.py's
+    build_mesh(data) makes: the custom normals it writes, else the ones Blender computes
+    from the smooth flags and sharp edges (core.shading.corner_normals), without building
+    the mesh."""
+    if data.custom_normals is not None:
+        return np.asarray(data.custom_normals, dtype=np.float64)
+    return core.shading.corner_normals(data.vertices, data.faces, data.smooth, data.sharp_edges)

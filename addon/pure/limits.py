@@ -12,7 +12,7 @@ LOD's notes and report say.
 L is in scene units or in percent of the object's bounding-box diagonal (of the whole
 asset's when the object is part of one), as ``--max-error`` is, or in pixels at each
 LOD's switch distance. A LOD switches in where its largest measured error ε_k shows
-Pixel Error (τ) pixels (addon/switch_distances.py), so P pixels there are P · ε_k / τ
+Pixel Error (τ) pixels (addon/pure/switch_distances.py), so P pixels there are P · ε_k / τ
 scene units: a limit relative to the LOD's own error, one per level
 (``pixel_limits``). ε_k is measured on a first run without the limit (the run with it
 keeps the region and gives the rest more error, so its ε_k is no smaller: the region
@@ -22,7 +22,8 @@ measures it with the report's own samples (measure.Sampled): at every sample of 
 surfaces in the group, its distance over the limit there (``limit_used``: at most 1 when
 the limit holds), and the region's largest distance.
 
-Free of bpy: arrays in and out.
+Free of bpy: arrays in and out, and the runs that hold a chain to its limit
+(``held_to_limit``, ``with_pixel_limit``: compute.py's simplify passed in).
 """
 from __future__ import annotations
 
@@ -30,17 +31,20 @@ from typing import Optional
 
 import numpy as np
 
+from . import deviation_search, deviation_targets, measure
 from .level_deviation import at_samples
+from .mesh_data import shading_normals
+from .rebuild import lod_mesh
 
 # The core holds the limit at its tracked points (the source's vertices and a grid inside
 # its faces; the LOD's vertices and points of its faces): the report's area samples fall
 # between them, up to 1.42x the core's bound on the test sphere's chain in pixels
 # (tests/scenarios/addon_limits.py, before reruns). So the core is given this share of
 # the limit, and a level the report's sampler still finds beyond is rerun tighter
-# (lod._held_to_limit, RERUN_AIM).
+# (held_to_limit, RERUN_AIM).
 CORE_SHARE = 0.85
 # A level measured beyond its limit (the report's limit_used above 1) runs again with its
-# core limits times RERUN_AIM / limit_used, at most RERUNS times (lod._held_to_limit).
+# core limits times RERUN_AIM / limit_used, at most RERUNS times (held_to_limit).
 RERUN_AIM = 0.9
 RERUNS = 2
 # Weights below this count as unpainted: a limit of L / 1e-6 is no limit at all, and
@@ -94,7 +98,7 @@ def vertex_limits(weights: np.ndarray, limit: float) -> np.ndarray:
 
 
 def limit_entry(lod_input, report: dict, index: int) -> Optional[dict]:
-    """The level report's ``limit`` entry of a level of ``lod_input`` (lod.LodInput, with a
+    """The level report's ``limit`` entry of a level of ``lod_input`` (phases.LodInput, with a
     painted limit) from its measurement ``report`` (kept samples), ``index``: the level's
     place in the chain: level_report with the group's name (and the pixels asked for)."""
     settings = lod_input.settings
@@ -160,3 +164,56 @@ def level_report(source, sampled, column: int, limit: float, diagonal: float,
         "region_hausdorff_percent": region * percent,
         "samples": int(np.count_nonzero(weight > MIN_WEIGHT)),
     }
+
+
+def held_to_limit(lod_input, simplify, first: Optional[list] = None) -> tuple:
+    """(the chain under its painted limit, each level's measurement by id of its result,
+    and each level's output mesh: {id: (result, mesh)}).
+
+    The core holds the limit at its tracked points, and is given CORE_SHARE of it;
+    the report's area samples fall between those points. Each level is measured here as
+    the report will measure it (the same output mesh, so the same samples: the report
+    reuses these measurements), and where a level used more than its limit the chain runs
+    again with that level's limits (and the ones before it) scaled down to
+    RERUN_AIM of what was used, at most RERUNS times."""
+    data, settings = lod_input.data, lod_input.settings
+    column, value, _ = lod_input.limit
+    weights = data.group_weights[:, column]
+    per_level = np.asarray(value if isinstance(value, tuple) else [value] * len(lod_input.targets), dtype=float)
+    rows = np.stack([vertex_limits(weights, v) for v in per_level])
+    results = first if first is not None else simplify(lod_input.targets)
+    for attempt in range(RERUNS + 1):
+        measured, built, used = {}, {}, []
+        for k, result in enumerate(results):
+            level = lod_mesh(data, result, lod_input.names, settings.hard_edge_angle)
+            built[id(result)] = (result, level)
+            normals = None if data.corner_normals is None else (data.corner_normals, shading_normals(level))
+            rep = deviation_search.deviation_report(data, level, normals, lod_input.part_samples)  # (as compute.level_report)
+            measured[id(result)] = rep
+            kept = level_report(data, rep["sampled"], column, per_level[k],
+                                lod_input.reference_diagonal or rep["diagonal"])
+            used.append(0.0 if kept is None else kept["limit_used"])
+        scale = rerun_scales(used)
+        if scale is None or attempt == RERUNS:
+            return results, measured, built
+        rows = scaled_rows(rows, scale)
+        results = simplify(lod_input.targets, vertex_max_error=rows)
+    return results, measured, built
+
+
+def with_pixel_limit(lod_input, simplify) -> list:
+    """The chain under a painted limit in pixels at each LOD's switch distance
+    (pixel_limits): a first run without it gives each level's largest error ε_k
+    (measured, with the deviation search's quicker sampling), the limit is then
+    P / Pixel Error of it per level, and the chain runs again under those limits. Sets
+    the per-level limits into lod_input.limit."""
+    data, settings = lod_input.data, lod_input.settings
+    column, _, scale = lod_input.limit
+    free = simplify(lod_input.targets)
+    eps = [measure.surface_deviation(data.vertices, data.faces, r.vertices, r.faces,
+                                     n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"] for r in free]
+    per_level = pixel_limits(eps, settings.limit_distance, settings.pixel_error)
+    weights = data.group_weights[:, column]
+    lod_input.limit = (column, tuple(float(v) for v in per_level), scale)
+    return simplify(lod_input.targets,
+                    vertex_max_error=np.stack([vertex_limits(weights, v) for v in per_level]))

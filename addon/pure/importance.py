@@ -202,3 +202,31 @@ def controls(g: np.ndarray, line_weight: float, strength: float, keys: bool = Fa
     if line_weight < LINE_WEIGHT_FLOOR and np.any(out["quadric_scale"] > 1):
         out["line_weights"] = np.full(len(g), LINE_WEIGHT_FLOOR)
     return out
+
+
+# The report: how dense the painted region came out.
+PAINTED = 0.5  # importance g from which a vertex counts as painted in the density report
+
+
+def region_word(source: str) -> str:
+    """What the report and the panel call the region of g >= 0.5 for an importance source:
+    "keyed" for Source Shape Keys (nobody painted it), else "painted"."""
+    return "keyed" if source == 'SHAPE_KEYS' else "painted"
+
+
+def importance_density(g: np.ndarray, vertex_origin: np.ndarray, region: str = "painted") -> Optional[dict]:
+    """How dense the painted region (g >= 0.5) came out against the rest: the share of
+    each kept and their ratio, the density in/out relative to the input's (on a uniform
+    mesh simply the painted region's vertex density over the rest's). ``region``: what
+    the panel calls that region (region_word). None when nothing or everything is painted."""
+    painted = np.asarray(g) >= PAINTED
+    n_in = int(np.count_nonzero(painted))
+    n_out = len(painted) - n_in
+    if n_in == 0 or n_out == 0:
+        return None
+    kept_in = int(np.count_nonzero(painted[vertex_origin]))
+    kept_out = len(vertex_origin) - kept_in
+    share_in, share_out = kept_in / n_in, kept_out / n_out
+    return {"painted_vertices": n_in, "painted_kept": kept_in, "painted_kept_percent": 100.0 * share_in,
+            "rest_kept_percent": 100.0 * share_out,
+            "painted_density": share_in / share_out if share_out > 0 else float("inf"), "region": region}

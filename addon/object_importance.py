@@ -1,0 +1,95 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The importance g in [0, 1] of an object's vertices under the settings' source: a
+painted vertex group, the rig's skin weights (the paper's Sec. 5.3) or the shape keys'
+motion (pure/importance.py says what each means), with the messages naming what is
+missing; and the preview that writes it back as a vertex group.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+
+from . import mesh_io
+from . import vertex_groups
+from .pure import importance as imp
+from .pure import key_deviation
+from .pure.settings import LodError, LodSettings
+from .rig import skinned_columns
+
+
+def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
+    """The paper's (Sec. 5.3) importance g in [0, 1] from ``obj``'s deform-bone weights."""
+    _, cols = skinned_columns(obj, group_names)
+    return imp.skin_importance(np.asarray(group_weights)[:, cols])
+
+
+def no_shape_keys(obj) -> str:
+    """The message for Source Shape Keys on an object without any."""
+    return (f'"{obj.name}" has no shape keys: add some (Object Data Properties > Shape Keys) '
+            f'or choose another importance source')
+
+
+def none_has_shape_keys(names: list) -> str:
+    """The message for Source Shape Keys on several objects none of which has any."""
+    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
+    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
+            f"(Object Data Properties > Shape Keys) or choose another importance source")
+
+
+# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
+# importance, this note (the command line's words for the same case, headless/sources.py).
+NO_KEYS_NOTE = "no importance (no shape keys)"
+
+
+def shape_key_importance_of(obj) -> np.ndarray:
+    """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
+    from its shape keys (importance.shape_key_importance); LodError when it has none."""
+    names = vertex_groups.group_names(obj.data)
+    weights = vertex_groups.read_weights(obj.data, names) if names else None
+    basis_name, use_relative, keys = mesh_io.read_shape_keys(obj.data)
+    if not keys:
+        raise LodError(no_shape_keys(obj))
+    return imp.shape_key_importance(key_deviation.key_offsets(keys, use_relative, names, weights, basis_name))
+
+
+def importance_of(obj, settings, group_names, group_weights, key_offsets=None) -> Optional[np.ndarray]:
+    """Importance g in [0, 1] per vertex from the settings' source, or None (no source);
+    group_names and group_weights (n, g) are the mesh's vertex groups, ``key_offsets()``
+    what its shape keys move each vertex by (key_deviation.key_offsets; only called for
+    Source Shape Keys). LodError names what is missing."""
+    if settings.importance_source == 'VERTEX_GROUP':
+        name = settings.importance_group
+        if not name:
+            raise LodError("importance source is Vertex Group but no group is chosen")
+        if name not in group_names:
+            raise LodError(f'"{obj.name}" has no vertex group "{name}"')
+        return np.asarray(group_weights)[:, list(group_names).index(name)]
+    if settings.importance_source == 'ARMATURE_PAPER':
+        return skin_importance_of(obj, group_names, group_weights)
+    if settings.importance_source == 'SHAPE_KEYS':
+        offsets = key_offsets() if key_offsets is not None else np.zeros((0, 0, 3))
+        if len(offsets) == 0:
+            raise LodError(no_shape_keys(obj))
+        return imp.shape_key_importance(offsets)
+    return None  # 'ARMATURE' acts through the sample poses (prepare), not through g
+
+
+def importance_preview(obj, settings: LodSettings) -> tuple:
+    """The effective importance of ``obj``'s vertices in [0, 1] (addon/pure/importance.py,
+    ``effective``) under ``settings``, read from the object's own mesh (not the modifier
+    result, so it can be written back as a vertex group), and how many vertices count as
+    painted (g >= 0.5). Raises LodError when the settings name no importance."""
+    if obj is None or getattr(obj, "type", None) != 'MESH':
+        raise LodError("Make a mesh object active")
+    if settings.importance_source == 'NONE':
+        raise LodError("Importance source is None: choose a vertex group, the armature or the shape keys first")
+    if settings.importance_source == 'ARMATURE':
+        raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
+                       "there is nothing to preview (Armature (Paper) has one)")
+    if settings.importance_source == 'SHAPE_KEYS':
+        g = shape_key_importance_of(obj)
+    else:
+        names = vertex_groups.group_names(obj.data)
+        g = importance_of(obj, settings, names, vertex_groups.read_weights(obj.data, names))
+    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= imp.PAINTED))

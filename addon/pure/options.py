@@ -1,0 +1,103 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The core.Options a LOD run asks for: the settings table's own fields (each row whose
+``core=`` is a CoreOption sets its field: core_options_of), and what the mesh brings
+(mesh_options): its attributes for the core to carry, the edges to keep (the Preserve
+rows), and the importance or the rig's sample poses.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+
+from ._core import core
+from . import edges as edge_util
+from . import importance as imp
+from .mesh_data import MeshData
+from .settings import PRESERVE_PAIRS, SETTINGS, CoreOption
+
+# The Preserve switch each strength belongs to (a CoreOption's ``off`` applies while it is off).
+SWITCH_OF = {strength: switch for switch, strength in PRESERVE_PAIRS}
+
+
+def core_options_of(settings) -> core.Options:
+    """core.Options with the field of every setting whose ``core=`` is a CoreOption set
+    from ``settings`` (a LodSettings), the rest at the core's defaults."""
+    fields = {}
+    for s in SETTINGS:
+        if not isinstance(s.core, CoreOption):
+            continue
+        switch = SWITCH_OF.get(s.name)
+        if switch is not None and not getattr(settings, switch):
+            fields[s.core.field] = s.core.off
+        else:
+            fields[s.core.field] = s.core.convert(getattr(settings, s.name))
+    return core.Options.of(**fields)
+
+
+def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.ndarray] = None,
+                 poses: Optional[np.ndarray] = None) -> tuple:
+    """(core.Options, names) of a run on the mesh ``data``: core_options_of(settings), and
+    the attributes the core carries (names: the attribute keys given to the core -> what
+    they stand for: "skin" and "groups" -> columns of data.group_weights), the Preserve
+    rows' feature edges, the importance ``g`` (importance.controls) and the rig's sample
+    ``poses`` (the pose offsets of the skin: ``skin_columns``, the columns of the groups
+    named after the deform bones)."""
+    names = {}
+    vattr, cattr, normalize, uvs = {}, {}, [], []
+    weights = data.group_weights
+    if data.group_names:
+        other_cols = [i for i in range(len(data.group_names)) if i not in set(skin_columns)]
+        if skin_columns:
+            skin = weights[:, skin_columns]
+            vattr["skin"] = skin
+            names["skin"] = skin_columns
+            # Renormalised only when the artist's weights were normalised to begin with.
+            if np.allclose(skin.sum(axis=1), 1.0, atol=1e-3):
+                normalize.append("skin")
+        if other_cols:
+            vattr["groups"] = weights[:, other_cols]
+            names["groups"] = other_cols
+    for i, layer in enumerate(data.colors):
+        key = f"color{i}"
+        (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
+    for i, sk in enumerate(data.shape_keys):
+        vattr[f"shape{i}"] = sk.offsets
+    for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
+        cattr[f"uv{i}"] = corners
+        uvs.append(f"uv{i}")
+    if data.custom_normals is not None:
+        # Carried like any corner attribute: a corner keeps (or interpolates) its source
+        # corners' normals, and a hard edge, where the normals differ, stays a split. But
+        # no seam (core Options.seamless_attributes): an exporter's hard edges are
+        # everywhere on a faceted low-poly mesh and would lock nearly every vertex.
+        cattr["normal"] = data.custom_normals
+
+    feature_sets = []
+    if settings.preserve_sharp:
+        feature_sets.append((data.sharp_edges, settings.sharp_strength))
+    if settings.preserve_seams:
+        feature_sets.append((data.seam_edges, settings.seam_strength))
+    if settings.preserve_materials:
+        feature_sets.append((edge_util.differing_edges(data.faces, data.material_index), settings.material_strength))
+    feature_edges, edge_weights = edge_util.merge_weighted_edges(feature_sets)
+
+    options = core.Options.of(
+        core_options_of(settings),
+        # Shape keys count in the error too: the LOD stays close at each key's full value.
+        shape_attributes=tuple(f"shape{i}" for i in range(len(data.shape_keys))),
+        vertex_attributes=vattr,
+        normalize_attributes=tuple(normalize),
+        corner_attributes=cattr,
+        uv_attributes=tuple(uvs),
+        seamless_attributes=("normal",) if "normal" in cattr else (),
+    )
+    if len(feature_edges):
+        options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
+    if g is not None:
+        options = core.Options.of(options, **imp.controls(g, settings.line_weight, settings.importance_strength,
+                                                          keys=settings.importance_source == 'SHAPE_KEYS'))
+    if poses is not None:
+        options = core.Options.of(options, pose_weight=imp.pose_weight(settings.importance_strength),
+                                  pose_offsets=core.skinning.pose_offsets(data.vertices, vattr["skin"], poses))
+    return options, names
