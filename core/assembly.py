@@ -59,6 +59,7 @@ class Layout:
     vertex_attributes: list  # per part: {name: width} of its own vertex attributes
     corner_attributes: list  # per part: {name: width} of its own corner attributes
     shape_attributes: frozenset  # names whose values are offsets (scaled with positions)
+    given: list  # per part: its (n_i, 3) vertices as given (float64), for the unmoved ones
 
 
 # Options every part must give alike: the run has one of each.
@@ -93,7 +94,8 @@ def combine(parts: Sequence[Part]) -> tuple:
     f_off = np.concatenate([[0], np.cumsum(m)])
     shapes = frozenset(name for p in parts for name in p.options.shape_attributes)
 
-    vertices = np.concatenate([np.asarray(p.vertices, dtype=np.float64) * p.scale for p in parts])
+    given = [np.asarray(p.vertices, dtype=np.float64) for p in parts]
+    vertices = np.concatenate([v * p.scale for v, p in zip(given, parts)])
     faces = np.concatenate([np.asarray(p.faces, dtype=np.int64).reshape(-1, 3) + v_off[i]
                             for i, p in enumerate(parts)])
     vattrs, vwidths = _side_by_side([p.options.vertex_attributes or {} for p in parts], n, shapes,
@@ -131,7 +133,8 @@ def combine(parts: Sequence[Part]) -> tuple:
         edge_weights=np.concatenate(weights) if edges else None,
         pose_offsets=poses,
         vertex_part=labels, part_copies=np.array([int(p.copies) for p in parts]))
-    layout = Layout(v_off, f_off, np.array([float(p.scale) for p in parts]), labels, vwidths, cwidths, shapes)
+    layout = Layout(v_off, f_off, np.array([float(p.scale) for p in parts]), labels, vwidths, cwidths, shapes,
+                    given)
     return vertices, faces, options, layout
 
 
@@ -194,11 +197,18 @@ def split(result: SimplifyResult, layout: Layout) -> list:
                   for name, width in layout.corner_attributes[i].items()}
         stats = result.stats
         own_faces = int(layout.face_offsets[i + 1] - layout.face_offsets[i])
+        # A vertex no collapse moved comes back as given, bit for bit (x * s / s need not
+        # be x): as for one mesh, where unmoved vertices skip the normalisation.
+        origin = result.vertex_origin[vertex_rows] - layout.vertex_offsets[i]
+        given = layout.given[i][origin]
+        vertices = result.vertices[vertex_rows]
+        unmoved = np.all(vertices == given * scale, axis=1)
+        vertices = np.where(unmoved[:, None], given, vertices / scale)
         out.append(SimplifyResult(
-            vertices=result.vertices[vertex_rows] / scale,
+            vertices=vertices,
             faces=local[result.faces[face_rows]],
             face_origin=result.face_origin[face_rows] - layout.face_offsets[i],
-            vertex_origin=result.vertex_origin[vertex_rows] - layout.vertex_offsets[i],
+            vertex_origin=origin,
             stats=dataclasses.replace(
                 stats, input_vertices=int(layout.vertex_offsets[i + 1] - layout.vertex_offsets[i]),
                 input_faces=own_faces, output_vertices=len(vertex_rows), output_faces=len(face_rows),
