@@ -87,3 +87,58 @@ def closest_on_triangles(p, a, b, c) -> tuple:
 def dot_rows(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Row-wise dot products of (k, d) arrays."""
     return np.einsum("ij,ij->i", x, y)
+
+
+def _row_keys(values: np.ndarray) -> np.ndarray:
+    """(k,) one opaque key per row of a (k, w) array, equal exactly where the rows are
+    equal bit for bit (for floats -0.0 and 0.0 differ: rows compared are copies, not
+    results)."""
+    values = np.ascontiguousarray(values)
+    return values.view(np.dtype((np.void, values.dtype.itemsize * values.shape[1]))).ravel()
+
+
+def _find(keys_a: np.ndarray, keys_b: np.ndarray) -> np.ndarray:
+    """(ka,) the index in keys_b of each of keys_a, or -1."""
+    if len(keys_b) == 0 or len(keys_a) == 0:
+        return np.full(len(keys_a), -1, dtype=np.int64)
+    order = np.argsort(keys_b, kind="stable")
+    at = np.minimum(np.searchsorted(keys_b[order], keys_a), len(keys_b) - 1)
+    found = order[at]
+    return np.where(keys_b[found] == keys_a, found, -1)
+
+
+def same_points(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(ka,) for each point of a (ka, 3), the index of a point of b (kb, 3) at the very
+    same position (bit for bit), or -1."""
+    return _find(_row_keys(np.asarray(a, dtype=np.float64)), _row_keys(np.asarray(b, dtype=np.float64)))
+
+
+def same_triangles(va, fa, vb, fb) -> tuple:
+    """Which triangles of mesh a are triangles of mesh b, corner for corner: ((ma,) the
+    index of a triangle of b on vertices at the very same positions (bit for bit), either
+    winding, or -1; (ma, 3) which corner of that triangle each of a's corners is).
+
+    A LOD keeps its source's unmoved vertices exactly (core.simplify returns them as
+    given), so where no collapse reached, its triangles are the source's: the distance
+    between the two surfaces there is zero, with no search (addon/pure/measure.py). Where
+    b has several vertices at one position, a triangle on another copy than the one
+    found is not matched (it is then searched for like any other)."""
+    fa, fb = np.asarray(fa, dtype=np.int64), np.asarray(fb, dtype=np.int64)
+    match = np.full(len(fa), -1, dtype=np.int64)
+    corner = np.zeros((len(fa), 3), dtype=np.int64)
+    if len(fa) == 0 or len(fb) == 0:
+        return match, corner
+    used = np.unique(fa)
+    at = np.full(int(used.max()) + 1, -1, dtype=np.int64)
+    at[used] = same_points(np.asarray(va, dtype=np.float64)[used], vb)
+    mapped = at[fa]
+    candidates = np.flatnonzero((mapped >= 0).all(axis=1))
+    if len(candidates) == 0:
+        return match, corner
+    # A triangle is its three vertex ids in order, whatever its rotation and winding.
+    found = _find(_row_keys(np.sort(mapped[candidates], axis=1)), _row_keys(np.sort(fb, axis=1)))
+    hit = candidates[found >= 0]
+    match[hit] = found[found >= 0]
+    # Which corner of b's triangle holds each of a's corners' vertex.
+    corner[hit] = np.argmax(fb[match[hit]][:, None, :] == mapped[hit][:, :, None], axis=2)
+    return match, corner

@@ -147,3 +147,37 @@ def test_fans_split_at_boundaries_of_flat_faces_and_wrong_winding():
     flipped = f.copy()
     flipped[1] = [0, 1, 3]  # both faces wind 0 -> 1: Blender splits there
     assert np.allclose(shading.corner_normals(v, flipped, [True, True]), _face_normals(v, flipped)[:, None, :])
+
+
+# ------------------------------------------------- same triangles (core.geometry), for measuring
+
+@pytest.mark.parametrize("seed", range(5))
+def test_same_triangles_finds_each_shared_triangle_whatever_its_rotation_and_winding(seed):
+    """b: some of a's triangles (rotated, some wound the other way, under other vertex
+    ids), others moved by a hair; each shared one is found with its corner map, no other."""
+    from core.geometry import same_points, same_triangles
+
+    rng = np.random.default_rng(seed)
+    va = rng.random((40, 3))
+    fa = np.array([rng.choice(40, 3, replace=False) for _ in range(60)])
+    relabel = rng.permutation(40)
+    vb = np.empty_like(va)
+    vb[relabel] = va
+    fb = relabel[fa].copy()
+    shift = rng.integers(0, 3, len(fb))
+    fb = np.take_along_axis(fb, (np.arange(3)[None, :] + shift[:, None]) % 3, axis=1)
+    flip = rng.random(len(fb)) < 0.5
+    fb[flip] = fb[flip][:, ::-1]
+    moved = rng.random(len(fb)) < 0.3
+    vb_moved = np.concatenate([vb, vb[fb[moved]].reshape(-1, 3) + 1e-12])
+    fb[moved] = len(vb) + np.arange(3 * int(moved.sum())).reshape(-1, 3)
+    order = rng.permutation(len(fb))
+    fb = fb[order]
+    match, corner = same_triangles(va, fa, vb_moved, fb)
+    expected = np.full(len(fa), -1)
+    expected[order[~moved[order]]] = np.flatnonzero(~moved[order])
+    np.testing.assert_array_equal(match, expected)
+    hit = match >= 0
+    np.testing.assert_array_equal(va[fa[hit]], np.take_along_axis(vb_moved[fb[match[hit]]], corner[hit][:, :, None], axis=1))
+    points = same_points(va, vb_moved)
+    np.testing.assert_array_equal(points, relabel)  # every a vertex is one of b's, moved copies aside

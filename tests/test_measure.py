@@ -287,3 +287,47 @@ def test_measure_uses_the_extensions_own_core_when_installed(blender_user_dir):
     assert r["normal_max_degrees"] == 0.0  # through the installed core's shading module
     assert r["ext_core"], "the installed measure did not import the extension's own core"
     assert not r["top_core"], "the installed measure imported the checkout's top-level core"
+
+
+def _brute_force(points, v, f):
+    """(k,) distance of each point to the triangles (v, f), and (k, 3) each point's
+    closest point, over every triangle."""
+    import core
+
+    best, where = np.full(len(points), np.inf), np.zeros((len(points), 3))
+    for a, b, c in v[f]:
+        k = len(points)
+        bary, _ = core.geometry.closest_on_triangles(points, np.tile(a, (k, 1)), np.tile(b, (k, 1)), np.tile(c, (k, 1)))
+        q = bary @ np.stack([a, b, c])
+        d = np.linalg.norm(points - q, axis=1)
+        closer = d < best
+        best[closer], where[closer] = d[closer], q[closer]
+    return best, where
+
+
+def test_shared_triangles_are_zero_apart_on_themselves_and_the_rest_is_searched(measured):
+    # Plane against the plane with x >= 0.7 stepped up 0.1: the triangles left of it are
+    # the same in both, so their points are at 0 on their own triangle, no search; every
+    # point's distance and closest point must be what a search of every triangle gives.
+    plane_v, plane_f = grid(10, alternate=False)
+    step_v = plane_v + np.outer(plane_v[:, 0] >= 0.7, [0.0, 0.0, 0.1])
+    pts = {k: np.asarray(v) for k, v in measured["step_points"].items()}
+    for side, (v_a, f_a, v_b, f_b) in (("src", (plane_v, plane_f, step_v, plane_f)),
+                                         ("dst", (step_v, plane_f, plane_v, plane_f))):
+        tri, bary = pts[f"{side}_triangle"].astype(int), pts[f"{side}_bary"]
+        on_a = np.einsum("kc,kcj->kj", bary, v_a[f_a[tri]])
+        exact, _ = _brute_force(on_a, v_b, f_b)
+        np.testing.assert_allclose(pts[f"{side}_distance"], exact, atol=1e-6)
+        nearest, at = pts[f"{side}_nearest"].astype(int), pts[f"{side}_nearest_bary"]
+        found = np.einsum("kc,kcj->kj", at, v_b[f_b[nearest]])
+        np.testing.assert_allclose(np.linalg.norm(found - on_a, axis=1), exact, atol=1e-6)
+        unmoved = np.all(v_a[f_a[tri]] == v_b[f_b[tri]], axis=(1, 2))
+        assert unmoved.mean() > 0.5  # the left part: shared, exactly 0 on the same triangle
+        assert np.all(pts[f"{side}_distance"][unmoved] == 0.0)
+        np.testing.assert_allclose(found[unmoved], on_a[unmoved], atol=1e-12)
+        verts = pts[f"{side}_vertices"].astype(int)
+        exact_v, _ = _brute_force(v_a[verts], v_b, f_b)
+        np.testing.assert_allclose(pts[f"{side}_vertex_distance"], exact_v, atol=1e-6)
+        vn, vat = pts[f"{side}_vertex_nearest"].astype(int), pts[f"{side}_vertex_nearest_bary"]
+        found_v = np.einsum("kc,kcj->kj", vat, v_b[f_b[vn]])
+        np.testing.assert_allclose(np.linalg.norm(found_v - v_a[verts], axis=1), exact_v, atol=1e-6)

@@ -256,38 +256,94 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
     return DEFAULT_SAMPLES
 
 
-def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None) -> tuple:
+def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None) -> tuple:
     """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
     surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
     normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
     and faces, or None when the closest points are not wanted, and a dict): the dict gets
-    the per-point results (Sampled's fields without their src_/dst_ prefix)."""
+    the per-point results (Sampled's fields without their src_/dst_ prefix). ``b``: b's
+    (vertices, faces): points on a triangle b has too (core.geometry.same_triangles), and
+    vertices b has too, are at distance 0 on it without a search (a LOD keeps its source's
+    untouched triangles exactly: half the engine's at LOD1)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
     used = np.unique(f_a)
     verts = v_a[used]
-    if shading is None and (keep is None or keep[0] is None):
-        d_samples, angles = _distances(tree_b, samples), None
-    else:
-        d_samples, nearest = _distances(tree_b, samples, with_faces=True)
+    wanted = shading is not None or (keep is not None and keep[0] is not None)
+    d_samples, nearest, at = _distances_known(
+        tree_b, samples, wanted, *(_on_same_triangles(tri, bary, v_a, f_a, *b) if b is not None else (None, None, None)))
+    angles = None
+    if wanted:
         v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
-        at = _closest_bary(samples, nearest, v_b, f_b)
+        at = _closest_bary(samples, nearest, v_b, f_b, at)
         angles = None if shading is None else _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
         if keep is not None and keep[0] is not None:
             keep[1].update(nearest=nearest, nearest_bary=at)
     if keep is not None:
         keep[1].update(triangle=tri, bary=bary, distance=d_samples)
-    if keep is not None and keep[0] is not None:
-        d_verts, vertex_nearest = _distances(tree_b, verts, with_faces=True)
+    wanted = keep is not None and keep[0] is not None
+    d_verts, vertex_nearest, vertex_at = _distances_known(
+        tree_b, verts, wanted, *(_on_same_vertices(verts, *b) if b is not None else (None, None, None)))
+    if wanted:
         keep[1].update(vertex_nearest=vertex_nearest,
-                       vertex_nearest_bary=_closest_bary(verts, vertex_nearest, *keep[0]))
-    else:
-        d_verts = _distances(tree_b, verts)
+                       vertex_nearest_bary=_closest_bary(verts, vertex_nearest, *keep[0], vertex_at))
     if keep is not None:
         keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     # With no area samples (n_samples=0 or a zero-area surface) fall back to the vertices.
     mean = float(d_samples.mean()) if len(d_samples) else float(d_verts.mean())
     return hausdorff, mean, len(samples) + len(verts), angles
+
+
+def _on_same_triangles(tri, bary, v_a, f_a, v_b, f_b) -> tuple:
+    """For points at ``bary`` on a's triangles ``tri``: (k,) bool those on a triangle b has
+    too, that triangle of b, and the points' barycentric coordinates on it."""
+    from ._core import core
+
+    match, corner = core.geometry.same_triangles(v_a, f_a, v_b, f_b)
+    on = match[tri] >= 0
+    at = np.zeros((int(on.sum()), 3))
+    np.put_along_axis(at, corner[tri[on]], bary[on], axis=1)
+    return on, match[tri[on]], at
+
+
+def _on_same_vertices(points, v_b, f_b) -> tuple:
+    """For ``points`` (a's vertices): (k,) bool those at a vertex b's triangles use, one
+    triangle of b with that corner, and the one-hot barycentric coordinates there."""
+    from ._core import core
+
+    corner_face = np.repeat(np.arange(len(f_b)), 3)
+    face_of, slot_of = np.full(len(v_b), -1, dtype=np.int64), np.zeros(len(v_b), dtype=np.int64)
+    face_of[f_b.ravel()] = corner_face
+    slot_of[f_b.ravel()] = np.tile(np.arange(3), len(f_b))
+    used = np.flatnonzero(face_of >= 0)
+    match = core.geometry.same_points(points, v_b[used])
+    on = match >= 0
+    vertex = used[match[on]]
+    at = np.zeros((int(on.sum()), 3))
+    at[np.arange(len(vertex)), slot_of[vertex]] = 1.0
+    return on, face_of[vertex], at
+
+
+def _distances_known(tree, points, with_faces, known=None, known_face=None, known_at=None) -> tuple:
+    """(distances (k,), nearest triangle (k,) or None, barycentric (k, 3) or None): the
+    points ``known`` (bool, or None) are at distance 0 on ``known_face`` at ``known_at``;
+    the tree is searched for the rest (``_distances``). Barycentric coordinates come back
+    only for the known points (NaN elsewhere: _closest_bary computes those)."""
+    if known is None or not known.any():
+        if not with_faces:
+            return _distances(tree, points), None, None
+        d, nearest = _distances(tree, points, with_faces=True)
+        return d, nearest, None
+    d = np.zeros(len(points))
+    rest = np.flatnonzero(~known)
+    if not with_faces:
+        d[rest] = _distances(tree, points[rest])
+        return d, None, None
+    nearest = np.zeros(len(points), dtype=np.int64)
+    at = np.full((len(points), 3), np.nan)
+    nearest[known], at[known] = known_face, known_at
+    d[rest], nearest[rest] = _distances(tree, points[rest], with_faces=True)
+    return d, nearest, at
 
 
 def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
@@ -300,13 +356,19 @@ def _corner_normals(normals, f: np.ndarray, what: str) -> np.ndarray:
     return n
 
 
-def _closest_bary(points, nearest, v_b, f_b) -> np.ndarray:
-    """(k, 3) barycentric coordinates of each point's closest point on b's triangle ``nearest``."""
+def _closest_bary(points, nearest, v_b, f_b, known=None) -> np.ndarray:
+    """(k, 3) barycentric coordinates of each point's closest point on b's triangle
+    ``nearest``; ``known``: (k, 3) those already known, NaN where not (_distances_known)."""
     from ._core import core
 
-    on_b = f_b[nearest]
-    at, _ = core.geometry.closest_on_triangles(points, v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
-    return at
+    todo = slice(None) if known is None else np.flatnonzero(np.isnan(known[:, 0]))
+    on_b = f_b[nearest[todo]]
+    at, _ = core.geometry.closest_on_triangles(points[todo], v_b[on_b[:, 0]], v_b[on_b[:, 1]], v_b[on_b[:, 2]])
+    if known is None:
+        return at
+    out = known.copy()
+    out[todo] = at
+    return out
 
 
 def _normal_angles(tri, bary, nearest, at, normals_a, normals_b) -> np.ndarray:
@@ -363,10 +425,10 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
 
     kept = ({}, {}) if keep_samples else None
     h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
-                                               shading, kept and ((vd, fd), kept[0]))
+                                               shading, kept and ((vd, fd), kept[0]), b=(vd, fd))
     t1 = time.perf_counter()
     h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
-                                          keep=kept and ((vs, fs), kept[1]))
+                                          keep=kept and ((vs, fs), kept[1]), b=(vs, fs))
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)

@@ -59,6 +59,11 @@ def run(meshes_npz: str) -> dict:
         result["region_step_" + name] = regional("plane", "step", region)
         result["region_flap_" + name] = regional("plane", "flap", region)
     result["region_step_without"] = deviation("plane", "step", n_samples=20_000)
+    # Half the plane stepped up: the other half's triangles are the source's, measured
+    # without a search (core.geometry.same_triangles); every point comes back for the test
+    # to check against a brute-force distance.
+    kept = deviation("plane", "step", n_samples=3000, keep_samples=True)["sampled"]
+    result["step_points"] = {k: np.asarray(v).tolist() for k, v in vars(kept).items() if v is not None}
     unkept = deviation("plane", "step", n_samples=10, keep_samples=True)["sampled"]
     invalid_calls = {
         "normals_shape": lambda: normals("plane", "coarse_plane", up[:-1], coarse_up),
