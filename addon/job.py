@@ -203,6 +203,8 @@ class LodJob:
                 first = self._run_together(progress) if self.together() else self._split_budget(progress)
             else:
                 self.inputs[0].targets = list(self._asset_targets)
+        elif self.asset is not None and self._one_run_allowed():
+            first = self._search_together(progress)
         for index, lod_input in enumerate(self.inputs):
             def step(fraction, index=index):
                 self.fraction = first + (1.0 - first) * (index + fraction) / count
@@ -225,9 +227,16 @@ class LodJob:
         by triangles, with nothing that needs a run per part (painted limits, whose
         distances are to the part's own surface; Source Armature, whose levels are
         refitted and remade per part) and with the options one run has one of alike."""
-        if not ONE_RUN or self._asset_targets is None or len(self.inputs) < 2:
+        if self._asset_targets is None or any(i.deviations is not None for i in self.inputs):
             return False
-        if any(i.limit is not None or i.poses is not None or i.deviations is not None for i in self.inputs):
+        return self._one_run_allowed()
+
+    def _one_run_allowed(self) -> bool:
+        """Whether the parts may share one core run: two or more, nothing that needs a run
+        per part, the options one run has one of alike."""
+        if not ONE_RUN or len(self.inputs) < 2:
+            return False
+        if any(i.limit is not None or i.poses is not None for i in self.inputs):
             return False
         first = self.inputs[0].core_options
         return all(getattr(i.core_options, name) == getattr(first, name)
@@ -276,6 +285,46 @@ class LodJob:
                 why = core.STOP_REASON_TEXT.get(r.stats.stop_reason, r.stats.stop_reason)
                 self.inputs[0].warnings.append(
                     f"the asset's LOD{k} stopped above its budget of {self._asset_targets[k - 1]} triangles: {why}")
+        return self.TOGETHER_SHARE
+
+    def _search_together(self, progress) -> float:
+        """An asset's chain by deviation (or screen size): searched in one core run over
+        every part (deviation_search.by_deviation_together), each part given its levels,
+        their requested deviations and measurements (LodInput.chain); where the run does
+        not meet a level, the parts are searched one by one (lod.compute) as before.
+        Returns the share of the progress it took."""
+        def step(fraction):
+            self.fraction = self.TOGETHER_SHARE * fraction
+            if progress is not None:
+                progress(self.fraction)
+            return not self._cancel.is_set()
+
+        settings = self.inputs[0].settings
+        try:
+            found = deviation_search.by_deviation_together(
+                self.inputs, [asset_set.matrix_scale_max(placed) for placed in self._matrices],
+                [len(placed) for placed in self._matrices], settings.deviations(self.asset.diagonal),
+                self.inputs[0].warnings, progress=step, cancelled=self._cancel.is_set)
+        except core.SimplifyCancelled as ex:
+            raise LodCancelled("cancelled") from ex
+        except ValueError as ex:
+            raise LodError(f"searching the asset's {len(self.inputs)} meshes together: {ex}") from ex
+        if found is None:
+            return 0.0
+        for lod_input, (chain, measured) in zip(self.inputs, found):
+            for k in range(len(chain)):
+                before = chain[k - 1] if k else None
+                if before is not None and _unchanged(before, chain[k]):
+                    chain[k] = before  # (one mesh, measured once: lod.compute repeats it)
+                if chain[k] is before or (k == 0 and len(chain[0].faces) == len(lod_input.data.faces)):
+                    lod_input.warnings.append(
+                        f"LOD{k + 1} repeats " + (f"LOD{k}" if k else "the whole part")
+                        + f": nothing coarser is within the asset's deviation {lod_input.deviations[k]:.4g} "
+                          f"(the object's units)")
+            lod_input.chain = chain
+            lod_input.chain_requested = list(lod_input.deviations[:len(chain)])
+            lod_input.chain_measured = measured
+            lod_input.targets = [len(level.faces) for level in chain]
         return self.TOGETHER_SHARE
 
     # The split runs the core once per part down its error curve: about as long as

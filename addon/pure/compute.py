@@ -82,7 +82,9 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
     elif lod_input.in_asset and not lod_input.targets:
         results, requested, measured = [], [], {}  # the asset's split removed it at LOD1
     elif lod_input.chain is not None:  # simplified with the rest of its asset (LodJob)
-        results, requested, measured = list(lod_input.chain), [None] * len(lod_input.chain), {}
+        results = list(lod_input.chain)
+        requested = list(lod_input.chain_requested or [None] * len(results))
+        measured = dict(lod_input.chain_measured or {})
     elif lod_input.deviations is not None:
         results, requested, measured = deviation_search.by_deviation(lod_input, simplify, report_progress,
                                                                      simplify_share, simplify_chain)

@@ -56,6 +56,10 @@ class LodInput:
     # A part of an asset simplified with the others in one core run (LodJob, core.assembly):
     # its levels, as that run left them (compute measures and writes them), or None.
     chain: Optional[list] = None
+    # and, for an asset's chain by deviation searched in one run (LodJob), each level's
+    # requested deviation (the object's units) and its measurement by id of the level.
+    chain_requested: Optional[list] = None
+    chain_measured: Optional[dict] = None
     # A part of an asset: the area samples a side its levels are measured with (its share
     # of the asset's, deviation_search.part_samples), or None: its own size's.
     part_samples: Optional[int] = None

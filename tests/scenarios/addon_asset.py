@@ -10,6 +10,7 @@ import numpy as np
 
 from addon import job as job_mod
 from addon import lod
+from addon.pure._core import core
 from scene_tools import mesh_hash, remove_all_objects
 
 
@@ -48,7 +49,19 @@ def run_job(**settings) -> dict:
         job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(**settings))
         out["together"] = job.together()
         fractions = []
-        job.run(progress=fractions.append)
+        # How many core runs over how many meshes the job makes (one run for the asset,
+        # or one per part).
+        runs = out["core_runs"] = []
+        real = core.simplify_chain
+
+        def counted(vertices, faces, *args, **kwargs):
+            runs.append(len(faces))
+            return real(vertices, faces, *args, **kwargs)
+        core.simplify_chain = counted
+        try:
+            job.run(progress=fractions.append)
+        finally:
+            core.simplify_chain = real
         reports = job.commit(bpy.context)
     except lod.LodError as ex:
         out["error"] = str(ex)
