@@ -133,3 +133,30 @@ def test_under_a_bound_no_part_is_removed_and_collapses_are_counted():
     assert distance_to_mesh(V, r.vertices, r.faces).max() <= 0.02 * (1 + 1e-9)
     assert r.stats.collapses > 0
     assert core.simplify(V1, F1, max_error=0.0).stats.collapses == 0  # (a flat part could, at no distance)
+
+
+def test_a_level_under_max_error_ends_when_its_passes_crawl_with_every_rule_relaxed():
+    """engine._crawling_under_bound: BOUND_CRAWL_PASSES passes in a row each under
+    BOUND_CRAWL_SHARE of the faces left end the level; a pass above resets the count; not
+    before the loosest rule step, nor without a global bound (painted limits only)."""
+    from types import SimpleNamespace
+
+    from core import engine
+    from core.guards import relaxation_ladder
+
+    ladder = relaxation_ladder()
+
+    def state(step, global_bound=True):
+        return SimpleNamespace(bound=SimpleNamespace(global_bound=global_bound), guards=ladder[step],
+                               ladder=ladder, bound_crawl=0)
+
+    faces, few, many = 100_000, 1, int(engine.BOUND_CRAWL_SHARE * 100_000) + 1
+    s = state(len(ladder) - 1)
+    calls = [engine._crawling_under_bound(s, few, faces) for _ in range(engine.BOUND_CRAWL_PASSES - 1)]
+    assert not any(calls)
+    assert not engine._crawling_under_bound(s, many, faces)  # a real pass: the count starts again
+    calls = [engine._crawling_under_bound(s, few, faces) for _ in range(engine.BOUND_CRAWL_PASSES)]
+    assert calls[-1] and not any(calls[:-1])
+    for s in (state(len(ladder) - 2), state(len(ladder) - 1, global_bound=False)):
+        assert not any(engine._crawling_under_bound(s, 0, faces) for _ in range(3 * engine.BOUND_CRAWL_PASSES))
+    assert not engine._crawling_under_bound(SimpleNamespace(bound=None), 0, faces)
