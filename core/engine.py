@@ -45,11 +45,6 @@ LIMITED_SELECTION_ROUNDS = 32  # with edges a painted limit holds (_choose)
 # where taking them out of order shows in distance and triangle shape.
 COST_QUANTILE_MAX = 0.15
 COST_QUANTILE_MIN = 0.05
-# A pass that took nothing (every collapse of its share was rejected, and stays rejected
-# until its neighbourhood changes) doubles the next one's share, and so on while they take
-# nothing: a sequential queue would look further up at once rather than a share a pass.
-# A CAD part's last tenth took 250 passes, 135 of them taking nothing; 176 (66) this way.
-IDLE_WIDENING = 2.0
 # Share of a pass's eligible candidates (the cheapest part) that selection rounds after
 # the first may still take. A later round finds local minima among what the first left
 # unblocked, so it takes edges whose cheaper neighbours are only waiting for their new
@@ -176,7 +171,6 @@ class State:
     part_cost: object = None  # (parts,) the largest RMS cost of a collapse taken in each part so far
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     bound_crawl: int = 0  # the same under a distance bound with every rule relaxed (_crawling_under_bound)
-    idle: int = 0  # passes in a row that took nothing (their share of the candidates widens: IDLE_WIDENING)
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
@@ -529,7 +523,6 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
     drawn = _drawn(s)
     share = min(max(0.5 * (drawn - target) / drawn, COST_QUANTILE_MIN), COST_QUANTILE_MAX)
-    share = min(share * IDLE_WIDENING ** s.idle, 1.0)
     if s.slivers.stalled and s.bound is not None and not s.bound.global_bound:
         # A pass that took nothing under painted limits: every candidate may go, in
         # every round, or the passes crawl through the few cheapest around the last
@@ -545,7 +538,6 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         upto = int(np.searchsorted(np.cumsum(removed[order]), need, side="left")) + 1
         chosen = chosen[:upto]
     s.slivers.stalled = len(chosen) == 0
-    s.idle = s.idle + 1 if s.slivers.stalled else 0
     if len(chosen):
         if s.part is not None and _part_held_back(s, cand, chosen, np.sqrt(mean_sq)):
             _relax(s)
