@@ -232,3 +232,37 @@ def test_separate_parts_that_touch_are_not_stitched():
     assert p.face_source is None  # nothing was split
     r = core.simplify(V, F, ratio=0.5)
     assert check.count_components(len(r.vertices), check.edge_table(r.faces)[0]) == 2
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_stitching_candidates_hold_every_point_within_tolerance_of_an_edge(seed):
+    """core.stitching._near_pairs looks only in the grid cells a sample's reach overlaps:
+    every (edge, point) pair a brute force finds within the stitching tolerance must be
+    among its candidates, for edges of very different lengths."""
+    from core import stitching
+
+    rng = np.random.default_rng(seed)
+    k = 300
+    a_pos = rng.random((k, 3)) * 0.5
+    b_pos = a_pos + rng.normal(size=(k, 3)) * rng.choice([0.002, 0.01, 0.1], size=(k, 1))
+    # Points on or near the edges (within and beyond tolerance), and loose ones.
+    which, t = rng.integers(0, k, 400), rng.random(400)
+    off = rng.normal(size=(400, 3)) * rng.choice([1e-7, 1e-4, 3e-3], size=(400, 1))
+    near = a_pos[which] + t[:, None] * (b_pos - a_pos)[which] + off
+    V = np.concatenate([a_pos, b_pos, near, rng.random((200, 3)) * 0.5])
+    a, b = np.arange(k), np.arange(k, 2 * k)
+    points = np.arange(2 * k, len(V))
+    edge_i, point_i = stitching._near_pairs(V, a, b, points)
+    found = set(zip(edge_i.tolist(), point_i.tolist()))
+    pa, pb = V[a][:, None, :], V[b][:, None, :]
+    q = V[points][None, :, :]
+    d = pb - pa
+    tt = np.clip(np.einsum("epj,epj->ep", q - pa, np.broadcast_to(d, (k, len(points), 3)))
+                 / np.maximum(np.einsum("epj,epj->ep", d, d), 1e-300), 0, 1)
+    dist = np.linalg.norm(pa + tt[..., None] * d - q, axis=2)
+    length = np.linalg.norm(V[b] - V[a], axis=1)
+    tol = np.minimum(stitching.RELATIVE_TOLERANCE * length, stitching.ABSOLUTE_TOLERANCE)
+    within = np.argwhere(dist <= tol[:, None])
+    assert len(within) > 50
+    missing = [(e, p) for e, p in within.tolist() if (e, p) not in found]
+    assert not missing, missing[:5]
