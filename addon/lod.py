@@ -128,10 +128,14 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     skin_columns = rig.deform_columns(source, data.group_names)[1] if data.group_names else []
     options, names = mesh_options(settings, data, skin_columns, g, poses)
-    limit = painted_limit(source, settings, data, reference, asset is not None, warnings)
-    if limit is not None and limit[1] is not None:  # (pixels: per level, from a first run: compute)
+    limit = painted_limit(source, settings, data, reference, asset is not None, warnings, deviations)
+    if limit is not None and limit[1] is not None:  # (pixels by triangles: per level, from a first run: compute)
         column, value, _ = limit
-        options = core.Options.of(options, vertex_max_error=limits.vertex_limits(data.group_weights[:, column], value))
+        # Per level (pixels by deviation): the first, strictest, for every run but the
+        # search's own chains, which get one per level (deviation_search.by_deviation).
+        strictest = value[0] if isinstance(value, tuple) else value
+        options = core.Options.of(options, vertex_max_error=limits.vertex_limits(data.group_weights[:, column],
+                                                                                 strictest))
     return LodInput(source.name, dataclasses.replace(settings), data, targets, options, names, warnings,
                     importance=None if g is None or settings.importance_strength <= 0 else np.asarray(g),
                     deviations=deviations, poses=poses, check_poses=check_poses, in_asset=asset is not None,
@@ -141,19 +145,17 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
 
 
 def painted_limit(source, settings: LodSettings, data: MeshData, reference: Optional[float],
-                  in_asset: bool, warnings: list) -> Optional[tuple]:
+                  in_asset: bool, warnings: list, deviations: Optional[list] = None) -> Optional[tuple]:
     """The settings' painted limit for ``source`` (addon/pure/limits.py): (column, L in the
-    object's units or None for pixels, object to scene units), or None without a Limit
-    Group. A group the object lacks is a LodError, or for a part of an asset a note (the
-    part is free); ``reference``: the asset's diagonal in the object's units (None: its
-    own)."""
+    object's units, or per level a tuple of them, or None for pixels by triangles (set
+    after a first run: compute), object to scene units), or None without a Limit Group. A
+    group the object lacks is a LodError, or for a part of an asset a note (the part is
+    free); ``reference``: the asset's diagonal in the object's units (None: its own);
+    ``deviations``: a chain by deviation's, the object's units (pixels are relative to
+    them)."""
     name = settings.limit_group
     if not name:
         return None
-    if settings.limit_unit == 'PIXELS' and settings.deviation_chain() is not None:
-        raise LodError("a Limit in pixels goes with triangle targets (each LOD's switch distance comes "
-                       "from its measured error); with Deviation or Screen Size targets give it in % "
-                       "or scene units")
     if name not in data.group_names:
         if in_asset:
             warnings.append(f'no vertex group "{name}": no painted limit on this part')
@@ -164,6 +166,10 @@ def painted_limit(source, settings: LodSettings, data: MeshData, reference: Opti
         warnings.append(f'the Limit Group "{name}" is empty: no painted limit')
         return None
     scale = asset_set.world_scale(source) if in_asset else 1.0
+    if settings.limit_unit == 'PIXELS' and deviations is not None:
+        # Each LOD's requested deviation shows Pixel Error pixels at its switch distance.
+        return column, tuple(float(v) for v in limits.pixel_limits(deviations, settings.limit_distance,
+                                                                   settings.pixel_error)), scale
     if settings.limit_unit == 'PIXELS':
         return column, None, scale
     diagonal = reference if reference is not None else measure.bbox_diagonal(data.vertices, data.faces)

@@ -73,6 +73,22 @@ def test_a_limit_in_pixels_is_relative_to_each_lods_own_error(res):
         assert kept["limit_percent"] <= 0.25 * level["hausdorff_percent"] * 1.05, (kept, level["hausdorff_percent"])
 
 
+def test_a_limit_in_pixels_by_deviation_is_relative_to_each_lods_requested_deviation(res):
+    # 0.25 px where the LOD's requested deviation shows Pixel Error (1 px): a quarter of
+    # it, per level; every level within its deviation and its painted region within that.
+    levels = res["pixels_by_deviation"]["levels"]
+    assert [round(level["requested_deviation_percent"], 6) for level in levels] == [0.5, 1.0, 2.0]
+    for level in levels:
+        kept = level["limit"]
+        assert kept["limit_pixels"] == 0.25 and kept["within"], kept
+        assert kept["limit_percent"] == pytest.approx(0.25 * level["requested_deviation_percent"], rel=1e-6)
+        assert level["hausdorff_percent"] <= level["requested_deviation_percent"]
+        # (the region is where the weight is at least 1/2: there the limit is at most 2 L)
+        assert kept["region_hausdorff_percent"] <= 2.0 * kept["limit_percent"]
+    free = [level["triangles"] for level in res["free"]["levels"]]
+    assert levels[-1]["triangles"] < free[0]  # simplified, not kept whole
+
+
 def test_the_source_is_never_modified(res):
     assert res["source_unchanged"]
 
@@ -82,7 +98,6 @@ def test_a_missing_group_is_named_and_nothing_is_made(res):
     assert errors["missing"] == '"Plain" has no vertex group "Face" (Limit Group)'
     assert errors["operator"] is not None and 'no vertex group "Face"' in errors["operator"]
     assert errors["lods_made"] == []
-    assert "pixels goes with triangle targets" in errors["pixels_by_deviation"]
 
 
 def test_paint_limit_makes_the_group_and_enters_weight_paint(res):

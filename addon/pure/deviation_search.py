@@ -85,15 +85,17 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         measured[id(level)] = deviation_report(data, level)
         return measured[id(level)]["hausdorff"]
 
+    per_level = _level_limits(lod_input)
     found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds), exact)
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **per_level), exact)
     options = lod_input.core_options
     if options.line_weights is None and options.pose_offsets is None:
         # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
         lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
                 "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
         found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean), exact))
+            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean,
+                                                          **per_level), exact))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -127,7 +129,23 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         raise LodError(f'"{lod_input.source_name}": no LOD is within the requested deviation '
                        f"{found[0].deviation:.4g}: ask for a larger one")
     lod_input.targets = [len(f.level.faces) for f in kept]
+    if per_level:  # each kept level's own limit (the report's entry), as the levels left
+        column, value, scale = lod_input.limit
+        lod_input.limit = (column, tuple(value[found.index(f)] for f in kept), scale)
     return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
+
+
+def _level_limits(lod_input) -> dict:
+    """{vertex_max_error: (levels, n)} for a chain of the search when the painted limit
+    is one per level (pixels at each LOD's switch distance: limits.pixel_limits of the
+    requested deviations), else {} (the core options have the limit, or none)."""
+    if lod_input.limit is None or not isinstance(lod_input.limit[1], tuple):
+        return {}
+    from . import limits  # (limits builds on this module's measurements)
+
+    column, value, _ = lod_input.limit
+    weights = lod_input.data.group_weights[:, column]
+    return {"vertex_max_error": np.stack([limits.vertex_limits(weights, v) for v in value])}
 
 
 def whole(lod_input, simplify, measured: dict):

@@ -16,8 +16,9 @@ Pixel Error (τ) pixels (addon/pure/switch_distances.py), so P pixels there are 
 scene units: a limit relative to the LOD's own error, one per level
 (``pixel_limits``). ε_k is measured on a first run without the limit (the run with it
 keeps the region and gives the rest more error, so its ε_k is no smaller: the region
-shows at most P pixels); this needs triangle targets, whose switch distances are not
-known before the run. Each LOD's report
+shows at most P pixels). With a chain by deviation (or screen size) ε_k is the requested
+deviation, known before the run: the search holds each level's own limit
+(deviation_search.by_deviation). Each LOD's report
 measures it with the report's own samples (measure.Sampled): at every sample of both
 surfaces in the group, its distance over the limit there (``limit_used``: at most 1 when
 the limit holds), and the region's largest distance.

@@ -97,7 +97,8 @@ LIMIT_UNITS = (
     ('DISTANCE', "Scene Units", "A distance in scene units (a single object's own units)"),
     ('PIXELS', "Pixels", "Pixels at each LOD's switch distance, where the whole LOD's largest error "
                          "shows Pixel Error pixels: a Limit below Pixel Error keeps the region that much "
-                         "finer than the rest (with triangle targets)"),
+                         "finer than the rest (of each LOD's requested deviation with Deviation or Screen Size "
+                         "targets)"),
 )
 # Kept only so files and scripts that set it still load: both act alike since issue 19.
 IMPORTANCE_MODES = (

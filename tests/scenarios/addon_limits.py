@@ -32,15 +32,15 @@ def painted_sphere():
 
 def lods(ob, **settings) -> dict:
     lod = extension_module("addon.lod")
-    report = lod.generate_lods(bpy.context, ob, lod.LodSettings(ratios=(0.5, 0.25, 0.1), **settings))
+    settings.setdefault("ratios", (0.5, 0.25, 0.1))
+    report = lod.generate_lods(bpy.context, ob, lod.LodSettings(**settings))
     return {"levels": report["levels"], "warnings": report["warnings"]}
 
 
 def errors(head, plain) -> dict:
     lod = extension_module("addon.lod")
     out = {}
-    for tag, ob, extra in (("missing", plain, {}),
-                           ("pixels_by_deviation", head, {"limit_unit": 'PIXELS', "target_by": 'DEVIATION'})):
+    for tag, ob, extra in (("missing", plain, {}),):
         try:
             lod.generate_lods(bpy.context, ob, lod.LodSettings(ratio=0.5, levels=1, limit_group="Face", **extra))
             out[tag] = None
@@ -96,6 +96,8 @@ def run() -> dict:
     held = lods(head, limit_group="Face", limit_distance=LIMIT_PERCENT)
     tight = lods(head, limit_group="Face", limit_distance=0.005)
     pixels = lods(head, limit_group="Face", limit_distance=0.25, limit_unit='PIXELS')
+    pixels_by_deviation = lods(head, ratios=None, max_deviations=((0.5, True), (1.0, True), (2.0, True)),
+                               limit_group="Face", limit_distance=0.25, limit_unit='PIXELS')
     unmeasured = lods(head, limit_group="Face", limit_distance=LIMIT_PERCENT, measure_deviation=False)
     return {
         "input": {"triangles": len(head.data.polygons), "painted": int(np.count_nonzero(weight > 0))},
@@ -103,6 +105,7 @@ def run() -> dict:
         "held": held,
         "tight": tight,
         "pixels": pixels,
+        "pixels_by_deviation": pixels_by_deviation,
         "unmeasured": unmeasured,
         "source_unchanged": bool(np.array_equal(before, array(head.data.vertices, "co", 3))),
         "errors": errors(head, plain),
