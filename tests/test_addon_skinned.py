@@ -97,3 +97,18 @@ def test_posed_source_is_read_at_rest(res):
     assert abs(run["triangles"] - rep["levels"][0]["target"]) <= 1
     # Against the unposed, unsubdivided arm: close (a bent arm would be ~20 % off).
     assert run["rest_hausdorff"] < 2.0
+
+
+def test_coarse_levels_remade_without_the_poses_keep_a_painted_limit(res):
+    """Source Armature with a painted limit (4 % on the arm's tip): the coarse levels
+    (fewer than 40 triangles a bone) are also made without the poses in the error and the
+    one that follows the source closer is kept (skin_fit.skinned_levels); that remake runs
+    under the limits its chain was last held to (LodInput.limit_rows), so every level
+    keeps the limit either way. (With a limit in pixels the remake had none at all; on
+    this arm a pixel limit tight enough to matter stops the coarse levels above their
+    targets, so no remake happens there.)"""
+    limited = res["limited"]
+    levels = limited["levels"]
+    assert any(level["triangles"] < 40 * limited["bones"] for level in levels), [(lv["triangles"], lv["target"]) for lv in levels]
+    for level in levels:
+        assert level["limit"] is not None and level["limit"]["within"], level

@@ -194,6 +194,7 @@ def held_to_limit(lod_input, simplify, first: Optional[list] = None) -> tuple:
             kept = level_report(data, rep["sampled"], column, per_level[k],
                                 lod_input.reference_diagonal or rep["diagonal"])
             used.append(0.0 if kept is None else kept["limit_used"])
+        lod_input.limit_rows = rows
         scale = rerun_scales(used)
         if scale is None or attempt == RERUNS:
             return results, measured, built

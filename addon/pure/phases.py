@@ -63,6 +63,10 @@ class LodInput:
     # A part of an asset: the area samples a side its levels are measured with (its share
     # of the asset's, deviation_search.part_samples), or None: its own size's.
     part_samples: Optional[int] = None
+    # Under a painted limit by triangles: the per-level vertex limits (levels, n) the
+    # chain was last run with (limits.held_to_limit), for runs that remake a level
+    # (skin_fit.skinned_levels).
+    limit_rows: Optional[np.ndarray] = None
 
 
 @dataclass

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
+
 from ._core import core
 from . import measure
 
@@ -47,7 +49,10 @@ def skinned_levels(lod_input, results: list, simplify, may_remake: bool, tick) -
     ``tick()`` before each level's fit lets Esc in between."""
     bones = max(len(lod_input.names["skin"]), 1)
     coarse = [may_remake and len(r.faces) < COARSE_TRIANGLES_PER_BONE * bones for r in results]
-    plain = iter(simplify([t for t, c in zip(lod_input.targets, coarse) if c], pose_offsets=None, pose_weight=0.0)
+    # Under a painted limit, each remade level under the limits its chain was run with.
+    limited = {} if lod_input.limit_rows is None else {"vertex_max_error": lod_input.limit_rows[np.asarray(coarse)]}
+    plain = iter(simplify([t for t, c in zip(lod_input.targets, coarse) if c], pose_offsets=None, pose_weight=0.0,
+                          **limited)
                  if any(coarse) else [])
     out = []
     for result, check in zip(results, coarse):
