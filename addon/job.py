@@ -219,6 +219,17 @@ class LodJob:
             self.outputs.append(output)
         self.fraction = 1.0
 
+    def _first_share(self, share: float, progress):
+        """The progress callback of the asset's first step (its one run or search, or the
+        split), which takes ``share`` of the job's progress: it reports the job's fraction
+        and says whether to go on."""
+        def step(fraction):
+            self.fraction = share * fraction
+            if progress is not None:
+                progress(self.fraction)
+            return not self._cancel.is_set()
+        return step
+
     # The asset's one core run (_run_together), against the parts' measuring afterwards.
     TOGETHER_SHARE = 0.5
 
@@ -249,12 +260,7 @@ class LodJob:
         share of the progress it took."""
         assembly = core.assembly
 
-        def step(fraction):
-            self.fraction = self.TOGETHER_SHARE * fraction
-            if progress is not None:
-                progress(self.fraction)
-            return not self._cancel.is_set()
-
+        step = self._first_share(self.TOGETHER_SHARE, progress)
         parts = [assembly.Part(i.data.vertices, i.data.faces, i.core_options,
                                asset_set.matrix_scale_max(placed), len(placed))
                  for i, placed in zip(self.inputs, self._matrices)]
@@ -293,12 +299,7 @@ class LodJob:
         their requested deviations and measurements (LodInput.chain); where the run does
         not meet a level, the parts are searched one by one (lod.compute) as before.
         Returns the share of the progress it took."""
-        def step(fraction):
-            self.fraction = self.TOGETHER_SHARE * fraction
-            if progress is not None:
-                progress(self.fraction)
-            return not self._cancel.is_set()
-
+        step = self._first_share(self.TOGETHER_SHARE, progress)
         settings = self.inputs[0].settings
         try:
             found = deviation_search.by_deviation_together(
@@ -334,12 +335,7 @@ class LodJob:
     def _split_budget(self, progress) -> float:
         """Give every group its share of the asset's targets (asset_set.split_budget);
         returns the share of the progress it took."""
-        def step(fraction):
-            self.fraction = self.SPLIT_SHARE * fraction
-            if progress is not None:
-                progress(self.fraction)
-            return not self._cancel.is_set()
-
+        step = self._first_share(self.SPLIT_SHARE, progress)
         try:
             counts = asset_set.split_budget(self.inputs, self._matrices, self._asset_targets, progress=step)
         except core.SimplifyCancelled as ex:
