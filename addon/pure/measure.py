@@ -264,7 +264,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     the per-point results (Sampled's fields without their src_/dst_ prefix). ``b``: b's
     (vertices, faces): points on a triangle b has too (core.geometry.same_triangles), and
     vertices b has too, are at distance 0 on it without a search (a LOD keeps its source's
-    untouched triangles exactly: half the engine's at LOD1)."""
+    untouched triangles exactly: a third of the engine's large parts' at LOD1)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
     used = np.unique(f_a)
     verts = v_a[used]
