@@ -719,9 +719,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     t = edge_parameter(rows(s.V, keep), rows(s.V, remove), pos)
     if s.X.shape[1]:
         s.X[keep] += t[:, None] * (s.X[remove] - s.X[keep])
-    for corner_data in (s.wedges, s.seamless):
-        if corner_data is not None:
-            corner_data.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
+    for corner_data in _corner_data(s):
+        corner_data.collapse(s.F, conn, cand.edge[chosen], keep, remove, t)
     s.changed = np.zeros(len(s.V), dtype=bool)
     s.changed[keep] = True
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
@@ -752,11 +751,16 @@ def _apply(s: State, conn, cand, chosen, pass_no):
             s.cache.slot = s.cache.slot.compress(surviving_edges)
         if s.bound is not None:
             s.bound.far_rejected = s.bound.far_rejected.compress(surviving_edges)
-    for corner_data in (s.wedges, s.seamless):
-        if corner_data is not None:
-            corner_data.keep_faces(alive)
+    for corner_data in _corner_data(s):
+        corner_data.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
     s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
+
+
+def _corner_data(s: State) -> list:
+    """The corner data the run carries: the wedges that make seams and the seamless ones
+    (Options.seamless_attributes), those there are."""
+    return [w for w in (s.wedges, s.seamless) if w is not None]
 
 
 def _drop_faces(s: State, alive):
@@ -764,9 +768,8 @@ def _drop_faces(s: State, alive):
     np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
     s.F = np.compress(alive, s.F, axis=0)
     s.face_origin = s.face_origin.compress(alive)
-    for corner_data in (s.wedges, s.seamless):
-        if corner_data is not None:
-            corner_data.keep_faces(alive)
+    for corner_data in _corner_data(s):
+        corner_data.keep_faces(alive)
     s.conn = topology.build(s.F, len(s.V))
     _forget_rejections(s)
 
@@ -806,9 +809,8 @@ def _snapshot(p: Problem, s: State, target, passes, seconds, stop, names) -> Sim
             vals = _renormalise(vals, p.vertex_attributes[name][kept])
         vattrs[name] = vals
     cattrs = {}
-    for corner_data in (s.wedges, s.seamless):
-        if corner_data is not None:
-            cattrs.update(corner_data.corner_values())
+    for corner_data in _corner_data(s):
+        cattrs.update(corner_data.corner_values())
     if face_order is not None:
         cattrs = {k: a[face_order] for k, a in cattrs.items()}
     if turned is not None:
