@@ -144,8 +144,7 @@ def _level_limits(lod_input) -> dict:
     from . import limits  # (limits builds on this module's measurements)
 
     column, value, _ = lod_input.limit
-    weights = lod_input.data.group_weights[:, column]
-    return {"vertex_max_error": np.stack([limits.vertex_limits(weights, v) for v in value])}
+    return {"vertex_max_error": limits.level_rows(lod_input.data.group_weights[:, column], value)}
 
 
 def whole(lod_input, simplify, measured: dict):

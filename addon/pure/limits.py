@@ -87,6 +87,12 @@ def scaled_rows(rows: np.ndarray, scale: np.ndarray) -> np.ndarray:
     return np.minimum.accumulate(out[::-1], axis=0)[::-1]
 
 
+def level_rows(weights: np.ndarray, per_level) -> np.ndarray:
+    """(levels, n) vertex_limits for each level's limit in ``per_level``: the core's
+    vertex_max_error for a chain with one limit per level."""
+    return np.stack([vertex_limits(weights, v) for v in per_level])
+
+
 def vertex_limits(weights: np.ndarray, limit: float) -> np.ndarray:
     """(n,) per-vertex limits for the core, mesh units: CORE_SHARE of limit / weight
     where the weight is above MIN_WEIGHT, inf (free) elsewhere. ``weights``: (n,) the
@@ -181,7 +187,7 @@ def held_to_limit(lod_input, simplify, first: Optional[list] = None) -> tuple:
     column, value, _ = lod_input.limit
     weights = data.group_weights[:, column]
     per_level = np.asarray(value if isinstance(value, tuple) else [value] * len(lod_input.targets), dtype=float)
-    rows = np.stack([vertex_limits(weights, v) for v in per_level])
+    rows = level_rows(weights, per_level)
     results = first if first is not None else simplify(lod_input.targets)
     for attempt in range(RERUNS + 1):
         measured, built, used = {}, {}, []
@@ -218,4 +224,4 @@ def with_pixel_limit(lod_input, simplify) -> list:
     weights = data.group_weights[:, column]
     lod_input.limit = (column, tuple(float(v) for v in per_level), scale)
     return simplify(lod_input.targets,
-                    vertex_max_error=np.stack([vertex_limits(weights, v) for v in per_level]))
+                    vertex_max_error=level_rows(weights, per_level))
