@@ -23,7 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .pure._core import core
-from .pure import importance, key_deviation, switch_distances
+from .pure import importance, key_deviation, limits, switch_distances
 from .pure.settings import LodSettings
 
 
@@ -193,10 +193,12 @@ def part_targets(counts: np.ndarray, faces: int) -> tuple:
                   f"simplifying the other parts further")
 
 
-def level_deviations(chains: list) -> Optional[list]:
+def level_deviations(chains: list, for_switch: bool = False) -> Optional[list]:
     """The asset's measured deviation per level, LOD0 first (0.0), scene units: per level
     the largest over the parts that have it. ``chains``: (phases.LodOutput, world scale) per
-    object. None when a level was not measured."""
+    object. None when a level was not measured. ``for_switch``: each part's switch error
+    instead (limits.switch_percent: more than its deviation where a limit in pixels
+    needs the LOD to come in later), what the asset's switch distances are computed from."""
     eps = [0.0]
     diagonals = {}  # id(output) -> its source's diagonal (objects sharing a mesh share it)
     for out, scale in chains:
@@ -208,7 +210,8 @@ def level_deviations(chains: list) -> Optional[list]:
                 return None
             while len(eps) <= k:
                 eps.append(0.0)
-            eps[k] = max(eps[k], entry["hausdorff_percent"] / 100.0 * diagonal * scale)
+            percent = limits.switch_percent(entry) if for_switch else entry["hausdorff_percent"]
+            eps[k] = max(eps[k], percent / 100.0 * diagonal * scale)
     return list(np.maximum.accumulate(eps)) if len(eps) > 1 else None
 
 

@@ -19,6 +19,7 @@ from . import lod_objects
 from . import mesh_io
 from . import posed_deviation
 from . import vertex_groups
+from .pure import limits
 from .pure import measure
 from .pure import switch_distances
 from .pure.settings import LodError
@@ -281,7 +282,7 @@ def _switch_data(source, out) -> tuple:
     if not all("hausdorff_percent" in entry for entry in out.reports):
         return None, None  # nothing measured (Measure Deviation off), nothing to say
     try:
-        percent = [0.0] + [entry["hausdorff_percent"] for entry in out.reports]
+        percent = [0.0] + [limits.switch_percent(entry) for entry in out.reports]
         data = out.input.data
         settings = out.input.settings
         return switch_distances.chain_switch_data(

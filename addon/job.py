@@ -402,7 +402,8 @@ class LodJob:
             first.setdefault(id(out), (out, unit))
         level_deviation.share_scales(list(first.values()))
         eps = asset_set.level_deviations(chains)
-        switch = None if eps is None else asset_set.switch_data(self.asset, eps, self.inputs[0].settings)
+        switch = None if eps is None else asset_set.switch_data(
+            self.asset, asset_set.level_deviations(chains, for_switch=True), self.inputs[0].settings)
         reports = lod.commit(context, self.object_outputs, self.objects, switch=switch)
         asset_set.mark(self.asset, reports)
         self.asset_report = asset_set.report(self.asset, reports, switch, eps)

@@ -3,6 +3,8 @@ within its limit, measured with the report's sampler; the count is met elsewhere
 no count can keep stops the LOD above its target with its own reason, said in the notes;
 a missing group is named; Paint Limit; the command line (tests/scenarios/addon_limits.py:
 a bumpy sphere painted 1 on its top cap, fading to 0, at 50 / 25 / 10 %)."""
+import math
+
 import pytest
 
 from bpy_harness import run_scenario
@@ -87,6 +89,26 @@ def test_a_limit_in_pixels_by_deviation_is_relative_to_each_lods_requested_devia
         assert kept["region_hausdorff_percent"] <= 2.0 * kept["limit_percent"]
     free = [level["triangles"] for level in res["free"]["levels"]]
     assert levels[-1]["triangles"] < free[0]  # simplified, not kept whole
+
+
+def test_a_limit_in_pixels_shows_at_most_its_pixels_where_each_lod_switches_in(res):
+    # At each level's own switch distance (Pixel Error 1 px, 1080 px high, 60 degrees: the
+    # defaults), the painted region's largest weight-scaled distance covers at most 0.25 px.
+    # By deviation the limit is a quarter of the requested deviation and the level is
+    # measured below it: the LOD then comes in where the region shows 0.25 px, not where
+    # its own error shows 1 px (limits.pixel_switch). The sphere is unscaled: scene units.
+    later = 0
+    for chain in ("pixels", "pixels_by_deviation"):
+        for level in res[chain]["levels"]:
+            kept = level["limit"]
+            region = kept["limit_used"] * kept["limit"]
+            shown = region * 1080 / (2.0 * level["switch_distance"] * math.tan(math.radians(30.0)))
+            assert shown <= 0.25 * (1 + 1e-9) and kept["region_pixels"] <= 0.25 * (1 + 1e-9), (chain, kept)
+            assert level["hausdorff_percent"] <= kept["switch_deviation_percent"] * (1 + 1e-9)
+            later += kept["switch_deviation_percent"] > level["hausdorff_percent"] * (1 + 1e-6)
+            if chain == "pixels_by_deviation":  # never later than the requested deviation
+                assert kept["switch_deviation_percent"] <= level["requested_deviation_percent"] * (1 + 1e-9)
+    assert later > 0  # (so the test above can fail: some level's own error would bring it in too close)
 
 
 def test_the_source_is_never_modified(res):

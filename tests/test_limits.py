@@ -28,6 +28,19 @@ def test_pixels_are_a_share_of_each_levels_error_never_decreasing():
     assert got == pytest.approx([0.05, 0.05, 0.2])
 
 
+def test_a_level_measured_below_its_limits_error_switches_in_where_its_region_shows_the_pixels():
+    # Limit 0.25 px of a requested 2.0: the region within 0.5; the level measured at 1.0.
+    # Switched in for its own error, the region would show 0.5 px; it comes in at 2.0.
+    got = limits.pixel_switch(hausdorff=1.0, region=0.5, pixels=0.25, pixel_error=1.0, diagonal=10.0)
+    assert got["switch_deviation"] == pytest.approx(2.0) and got["switch_deviation_percent"] == pytest.approx(20.0)
+    assert got["region_pixels"] == pytest.approx(0.25)
+    # A region well within: the level's own error decides, the region shows less.
+    got = limits.pixel_switch(hausdorff=1.0, region=0.1, pixels=0.25, pixel_error=2.0, diagonal=10.0)
+    assert got["switch_deviation"] == pytest.approx(1.0) and got["region_pixels"] == pytest.approx(0.2)
+    assert limits.switch_percent({"hausdorff_percent": 3.0}) == 3.0
+    assert limits.switch_percent({"hausdorff_percent": 3.0, "limit": {"switch_deviation_percent": 4.0}}) == 4.0
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.floats(0.0, 3.0), min_size=1, max_size=5), st.integers(0, 2**16))
 def test_reruns_tighten_only_the_levels_beyond_and_keep_the_chain_non_decreasing(used, seed):

@@ -15,10 +15,12 @@ LOD's switch distance. A LOD switches in where its largest measured error ε_k s
 Pixel Error (τ) pixels (addon/pure/switch_distances.py), so P pixels there are P · ε_k / τ
 scene units: a limit relative to the LOD's own error, one per level
 (``pixel_limits``). ε_k is measured on a first run without the limit (the run with it
-keeps the region and gives the rest more error, so its ε_k is no smaller: the region
-shows at most P pixels). With a chain by deviation (or screen size) ε_k is the requested
-deviation, known before the run: the search holds each level's own limit
-(deviation_search.by_deviation). Each LOD's report
+keeps the region and gives the rest more error, so its ε_k is seldom smaller). With a
+chain by deviation (or screen size) ε_k is the requested deviation, known before the
+run: the search holds each level's own limit (deviation_search.by_deviation). Where a
+level's measured error comes out below that ε_k, it switches in where its region shows P
+pixels instead (``pixel_switch``), so the region shows at most P pixels wherever the LOD
+is drawn. Each LOD's report
 measures it with the report's own samples (measure.Sampled): at every sample of both
 surfaces in the group, its distance over the limit there (``limit_used``: at most 1 when
 the limit holds), and the region's largest distance.
@@ -119,7 +121,40 @@ def limit_entry(lod_input, report: dict, index: int) -> Optional[dict]:
     kept = dict(kept, group=settings.limit_group)
     if settings.limit_unit == 'PIXELS':
         kept["limit_pixels"] = settings.limit_distance
+        kept.update(pixel_switch(report["hausdorff"], kept["limit_used"] * value, settings.limit_distance,
+                                 settings.pixel_error, report.get("diagonal") or 0.0))
     return kept
+
+
+def pixel_switch(hausdorff: float, region: float, pixels: float, pixel_error: float, diagonal: float) -> dict:
+    """Where a level under a limit in pixels may switch in, as the error its switch
+    distance is computed from (switch_distances.py): its own largest error, or, where its
+    painted region would show more than ``pixels`` there, the error at whose switch
+    distance it shows ``pixels``: region * pixel_error / pixels.
+
+    Why: the chain's limits are P / Pixel Error of an error known before the run (the
+    requested deviation, or the level's error without the limit), and the level's own
+    measured error can come out below it (a deviation search keeps levels at 0.6-1.0 of
+    their bound), which would bring the LOD in closer, where the region shows more than
+    P pixels. Held this way, the region shows at most P pixels wherever the LOD is drawn,
+    and the LOD comes in no later than its limit's error puts it (the region is within
+    that limit). ``hausdorff``: the level's largest error, ``region``: the largest
+    weight-scaled distance of its painted region (limit_used times the limit), both mesh
+    units; ``diagonal``: what percent means. Returns {switch_deviation (mesh units),
+    switch_deviation_percent, region_pixels (the region's largest distance in pixels where
+    the level switches in, before the chain's and the asset's running maximum, which only
+    bring it in later)}."""
+    switch = max(float(hausdorff), float(region) * float(pixel_error) / float(pixels))
+    return {"switch_deviation": switch,
+            "switch_deviation_percent": switch * 100.0 / diagonal if diagonal > 0 else float("nan"),
+            "region_pixels": float(region) / switch * float(pixel_error) if switch > 0 else 0.0}
+
+
+def switch_percent(entry: dict) -> float:
+    """The error (percent of the source's diagonal) a measured level's switch distance is
+    computed from: its Hausdorff distance, or pixel_switch's where a limit in pixels asks
+    for more."""
+    return float((entry.get("limit") or {}).get("switch_deviation_percent", entry["hausdorff_percent"]))
 
 
 def level_report(source, sampled, column: int, limit: float, diagonal: float,
