@@ -121,8 +121,9 @@ def limit_entry(lod_input, report: dict, index: int) -> Optional[dict]:
     kept = dict(kept, group=settings.limit_group)
     if settings.limit_unit == 'PIXELS':
         kept["limit_pixels"] = settings.limit_distance
-        kept.update(pixel_switch(report["hausdorff"], kept["limit_used"] * value, settings.limit_distance,
-                                 settings.pixel_error, report.get("diagonal") or 0.0))
+        switch = pixel_switch(report["hausdorff"], kept["limit_used"] * value, settings.limit_distance,
+                              settings.pixel_error, report.get("diagonal") or 0.0)
+        kept.update(switch, switch_deviation=switch["switch_deviation"] * scene_scale)  # (scene units, as "limit")
     return kept
 
 
@@ -140,8 +141,8 @@ def pixel_switch(hausdorff: float, region: float, pixels: float, pixel_error: fl
     and the LOD comes in no later than its limit's error puts it (the region is within
     that limit). ``hausdorff``: the level's largest error, ``region``: the largest
     weight-scaled distance of its painted region (limit_used times the limit), both mesh
-    units; ``diagonal``: what percent means. Returns {switch_deviation (mesh units),
-    switch_deviation_percent, region_pixels (the region's largest distance in pixels where
+    units; ``diagonal``: what percent means (the source's own diagonal, as the level's
+    hausdorff_percent). Returns {switch_deviation (mesh units), switch_deviation_percent, region_pixels (the region's largest distance in pixels where
     the level switches in, before the chain's and the asset's running maximum, which only
     bring it in later)}."""
     switch = max(float(hausdorff), float(region) * float(pixel_error) / float(pixels))
