@@ -125,3 +125,49 @@ def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle_degrees: float) -
     conn = build(np.asarray(faces, dtype=np.int64), len(vertices))
     normals, _ = face_frames(np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64))
     return conn.edges[crease_edges(normals, conn, angle_degrees)]
+
+
+def nearest_other(points: np.ndarray, brute_force_below: int = 4096) -> np.ndarray:
+    """(k,) distance from each of ``points`` (k, 3) to the nearest other one (inf for a
+    lone point): a corner's feature size, how far the next corner of its shape is (a bolt
+    hole's eight border turns lie a facet apart, a box's corners an edge).
+
+    Exact below ``brute_force_below`` points (all pairs, in blocks); above, the points are
+    hashed to a grid of about one point per cell and each looks in the 27 cells around its
+    own, a point with no other there getting the cell's size (a lower bound)."""
+    p = np.asarray(points, dtype=np.float64)
+    k = len(p)
+    out = np.full(k, np.inf)
+    if k < 2:
+        return out
+    if k < brute_force_below:
+        for start in range(0, k, 512):
+            block = p[start:start + 512]
+            d2 = np.einsum("ijk,ijk->ij", block[:, None] - p[None], block[:, None] - p[None])
+            d2[np.arange(len(block)), start + np.arange(len(block))] = np.inf
+            out[start:start + 512] = np.sqrt(d2.min(axis=1))
+        return out
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    cell = max(float(np.linalg.norm(hi - lo)) / np.cbrt(k), 1e-12)
+    c = np.floor((p - lo) / cell).astype(np.int64) + 1
+    extent = c.max(axis=0) + 2
+    stride = np.array([1, extent[0], extent[0] * extent[1]], dtype=np.int64)
+    key = c @ stride
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    best = np.full(k, cell * cell)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dz in (-1, 0, 1):
+                other = key + dx * stride[0] + dy * stride[1] + dz * stride[2]
+                first = np.searchsorted(sorted_key, other, side="left")
+                count = np.searchsorted(sorted_key, other, side="right") - first
+                if not count.any():
+                    continue
+                me = np.repeat(np.arange(k), count)
+                them = order[np.repeat(first, count) + (np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count))]
+                keep = me != them
+                me, them = me[keep], them[keep]
+                d2 = np.einsum("ij,ij->i", p[me] - p[them], p[me] - p[them])
+                np.minimum.at(best, me, d2)
+    return np.sqrt(best)

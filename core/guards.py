@@ -58,7 +58,8 @@ RULES = (
                    "fewer slivers than the input's share (core.slivers)", True),
     Rule("seams", "seam vertices slide only along their seam; seam ends stay put", True),
     Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
-                            "boundary, stay put (feature_angle)", True),
+                            "boundary, stay put (feature_angle), but those that crowd a LOD "
+                            "and are smaller than its error (core.engine._release_small_corners)", True),
     Rule("uv_area", "no UV triangle shrinks below min_uv_area_kept of its area", True),
     Rule("uv_flip", "no UV triangle flips", True),
 )

@@ -70,7 +70,8 @@ class Options:
         creases or feature edges meet, and open-boundary vertices where the boundary
         turns by the angle, or by half of it beyond its neighbours' turns the same way
         (core.features.boundary_corners), are corners and stay put (unless the target
-        cannot be reached otherwise).
+        cannot be reached otherwise, or they crowd a LOD and are smaller than its error:
+        core.engine._release_small_corners).
       min_quality: in [0, 1], the triangle quality (core.metrics.triangle_quality; 1 for
         equilateral) below which no collapse may turn a face (SLIVER_QUALITY = 0.3 by
         default, 0 turns the rule off): lower it for closer hard-surface shapes at the

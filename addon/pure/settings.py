@@ -278,7 +278,8 @@ SETTINGS = (
     Setting("feature_angle", core.features.DEFAULT_FEATURE_ANGLE, "Feature Angle",
             "Degrees: edges whose faces' normals differ by more than this are kept "
             "like sharp edges, and corners where three of them meet (or where an open "
-            "border turns sharply: half as much beyond its neighbours) stay in place. 80 keeps the right angles of "
+            "border turns sharply: half as much beyond its neighbours) stay in place, but small ones "
+            "crowding a low LOD (a CAD part's bolt holes). 80 keeps the right angles of "
             "hard-surface parts; below about 60 organic meshes suffer. 0 turns it off",
             low=0.0, high=180.0, high_open=True, unit=" degrees (0 = off)",
             blender={"max": 179.0, "precision": 1}, flag="--feature-angle",
