@@ -127,47 +127,65 @@ def sharp_edges(vertices: np.ndarray, faces: np.ndarray, angle_degrees: float) -
     return conn.edges[crease_edges(normals, conn, angle_degrees)]
 
 
-def nearest_other(points: np.ndarray, brute_force_below: int = 4096) -> np.ndarray:
+def nearest_other(points: np.ndarray, brute_force_below: int = 512) -> np.ndarray:
     """(k,) distance from each of ``points`` (k, 3) to the nearest other one (inf for a
     lone point): a corner's feature size, how far the next corner of its shape is (a bolt
     hole's eight border turns lie a facet apart, a box's corners an edge).
 
-    Exact below ``brute_force_below`` points (all pairs, in blocks); above, the points are
-    hashed to a grid of about one point per cell and each looks in the 27 cells around its
-    own, a point with no other there getting the cell's size (a lower bound)."""
+    Exact. Below ``brute_force_below`` points, all pairs; above, the points are hashed to
+    a grid and each looks in the 27 cells around its own: a neighbour found within one
+    cell's size is the nearest (any nearer one is in those cells), and the points that
+    found none that near look again in a grid of cells three times as large, starting
+    fine so that a dense cluster's cells hold a few points each."""
     p = np.asarray(points, dtype=np.float64)
     k = len(p)
     out = np.full(k, np.inf)
     if k < 2:
         return out
     if k < brute_force_below:
-        for start in range(0, k, 512):
-            block = p[start:start + 512]
-            d2 = np.einsum("ijk,ijk->ij", block[:, None] - p[None], block[:, None] - p[None])
-            d2[np.arange(len(block)), start + np.arange(len(block))] = np.inf
-            out[start:start + 512] = np.sqrt(d2.min(axis=1))
-        return out
-    lo, hi = p.min(axis=0), p.max(axis=0)
-    cell = max(float(np.linalg.norm(hi - lo)) / np.cbrt(k), 1e-12)
+        d2 = np.einsum("ijk,ijk->ij", p[:, None] - p[None], p[:, None] - p[None])
+        np.fill_diagonal(d2, np.inf)
+        return np.sqrt(d2.min(axis=1))
+    lo = p.min(axis=0)
+    diagonal = float(np.linalg.norm(p.max(axis=0) - lo))
+    if diagonal == 0.0:
+        return np.zeros(k)
+    cell = diagonal / np.cbrt(k) / 4.0
+    todo = np.arange(k)
+    while len(todo):
+        best = _nearest_in_cells(p, lo, cell, todo)
+        found = best <= cell * cell
+        out[todo[found]] = np.sqrt(best[found])
+        if cell > diagonal:  # every other point was in the 27 cells
+            out[todo[~found]] = np.sqrt(best[~found])
+            break
+        todo = todo[~found]
+        cell *= 3.0
+    return out
+
+
+def _nearest_in_cells(p, lo, cell, queries) -> np.ndarray:
+    """(len(queries),) the squared distance from each query point to the nearest other
+    point of ``p`` in the 27 grid cells (size ``cell``, from ``lo``) around its own (inf
+    when none)."""
     c = np.floor((p - lo) / cell).astype(np.int64) + 1
     extent = c.max(axis=0) + 2
     stride = np.array([1, extent[0], extent[0] * extent[1]], dtype=np.int64)
     key = c @ stride
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
-    best = np.full(k, cell * cell)
-    for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            for dz in (-1, 0, 1):
-                other = key + dx * stride[0] + dy * stride[1] + dz * stride[2]
-                first = np.searchsorted(sorted_key, other, side="left")
-                count = np.searchsorted(sorted_key, other, side="right") - first
-                if not count.any():
-                    continue
-                me = np.repeat(np.arange(k), count)
-                them = order[np.repeat(first, count) + (np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count))]
-                keep = me != them
-                me, them = me[keep], them[keep]
-                d2 = np.einsum("ij,ij->i", p[me] - p[them], p[me] - p[them])
-                np.minimum.at(best, me, d2)
-    return np.sqrt(best)
+    best = np.full(len(queries), np.inf)
+    mine = key[queries]
+    for offset in (np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T @ stride):
+        first = np.searchsorted(sorted_key, mine + offset, side="left")
+        count = np.searchsorted(sorted_key, mine + offset, side="right") - first
+        total = int(count.sum())
+        if total == 0:
+            continue
+        q = np.repeat(np.arange(len(queries)), count)
+        them = order[np.repeat(first, count) + np.arange(total) - np.repeat(np.cumsum(count) - count, count)]
+        other = them != queries[q]
+        q, them = q[other], them[other]
+        diff = p[queries[q]] - p[them]
+        np.minimum.at(best, q, np.einsum("ij,ij->i", diff, diff))
+    return best
