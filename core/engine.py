@@ -69,11 +69,6 @@ ORDER_FREE_COST = 1e-9
 # the drop comes before the collapse and the rules relax when passes crawl, 1 keeps the
 # robot's, the engine's and the Kenney character's levels as close as 0.5 did.
 DROP_SIZE_SHARE = 1.0
-# The rules relax a step (as when nothing passes them at all) once CRAWL_PASSES passes in a
-# row each took less than CRAWL_SHARE of the faces the target still needs: where seams
-# and hard edges hold most collapses back (a CAD engine's 67 parts in one run), the strict
-# steps let a handful through a pass, and the passes crawled: 400 of 451 for the last
-# third of the engine's LOD3, 3 s, before the step that let it through anyway.
 # Feature corners (Options.feature_angle) crowding a level (more than CORNER_SHARE of the
 # vertices it will have) and nearer to another corner than CORNER_SIZE_SHARE times the
 # largest collapse distance so far move like other vertices (_release_small_corners). A
@@ -84,6 +79,11 @@ DROP_SIZE_SHARE = 1.0
 # 0.88x, 25 %). Held while there is room, corners change nothing else measured there.
 CORNER_SHARE = 0.5
 CORNER_SIZE_SHARE = 2.0
+# The rules relax a step (as when nothing passes them at all) once CRAWL_PASSES passes in a
+# row each took less than CRAWL_SHARE of the faces the target still needs: where seams
+# and hard edges hold most collapses back (a CAD engine's 67 parts in one run), the strict
+# steps let a handful through a pass, and the passes crawled: 400 of 451 for the last
+# third of the engine's LOD3, 3 s, before the step that let it through anyway.
 CRAWL_SHARE = 0.005
 CRAWL_PASSES = 5
 # ... as long as the target still needs this many faces: a small mesh's last passes take a
