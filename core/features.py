@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import grid
 from .quadrics import scatter_sum
 from .topology import Connectivity, connected_labels, next_corner
 
@@ -168,22 +169,16 @@ def _nearest_in_cells(p, lo, cell, queries) -> np.ndarray:
     """(len(queries),) the squared distance from each query point to the nearest other
     point of ``p`` in the 27 grid cells (size ``cell``, from ``lo``) around its own (inf
     when none)."""
-    c = np.floor((p - lo) / cell).astype(np.int64) + 1
-    extent = c.max(axis=0) + 2
-    stride = np.array([1, extent[0], extent[0] * extent[1]], dtype=np.int64)
+    c = grid.cells(p, lo, cell)
+    stride = grid.strides(c)
     key = c @ stride
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
     best = np.full(len(queries), np.inf)
     mine = key[queries]
-    for offset in (np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T @ stride):
-        first = np.searchsorted(sorted_key, mine + offset, side="left")
-        count = np.searchsorted(sorted_key, mine + offset, side="right") - first
-        total = int(count.sum())
-        if total == 0:
-            continue
-        q = np.repeat(np.arange(len(queries)), count)
-        them = order[np.repeat(first, count) + np.arange(total) - np.repeat(np.cumsum(count) - count, count)]
+    for offset in grid.NEIGHBOURS @ stride:
+        q, at = grid.in_cells(sorted_key, mine + offset)
+        them = order[at]
         other = them != queries[q]
         q, them = q[other], them[other]
         diff = p[queries[q]] - p[them]

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import components, topology
+from . import components, grid, topology
 from .geometry import edge_parameter, face_frames
 
 # A border vertex joins a border edge when it is this close to it, relative to the
@@ -155,9 +155,8 @@ def _near_pairs(V, a, b, points):
     lo = np.minimum(sample_pos.min(axis=0), V[points].min(axis=0))
     scaled = (sample_pos - lo) / cell
     sample_cell = np.floor(scaled).astype(np.int64) + 1
-    point_cell = np.floor((V[points] - lo) / cell).astype(np.int64) + 1
-    extent = np.maximum(sample_cell.max(axis=0), point_cell.max(axis=0)) + 2
-    stride = np.array([1, extent[0], extent[0] * extent[1]], dtype=np.int64)
+    point_cell = grid.cells(V[points], lo, cell)
+    stride = grid.strides(sample_cell, point_cell)
     point_key = point_cell @ stride
     by_key = np.argsort(point_key, kind="stable")
     sorted_keys = point_key[by_key]
@@ -166,7 +165,7 @@ def _near_pairs(V, a, b, points):
     reach = _reach(length, samples, cell)[edge_of]
     edges_out, points_out = [], []
     sample_key = sample_cell @ stride
-    for off in np.stack(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1], indexing="ij"), -1).reshape(-1, 3):
+    for off in grid.NEIGHBOURS:
         looks = np.ones(len(sample_key), dtype=bool)
         for axis, o in enumerate(off):
             if o < 0:
@@ -176,17 +175,11 @@ def _near_pairs(V, a, b, points):
         rows = np.flatnonzero(looks)
         if len(rows) == 0:
             continue
-        key = sample_key[rows] + off @ stride
-        lo_i = np.searchsorted(sorted_keys, key, side="left")
-        hi_i = np.searchsorted(sorted_keys, key, side="right")
-        count = hi_i - lo_i
-        has = np.flatnonzero(count)
-        if len(has) == 0:
+        rep, at = grid.in_cells(sorted_keys, sample_key[rows] + off @ stride)
+        if len(rep) == 0:
             continue
-        rep = np.repeat(has, count[has])
-        pos = np.arange(len(rep)) - np.repeat(np.cumsum(count[has]) - count[has], count[has])
         edges_out.append(edge_of[rows[rep]])
-        points_out.append(by_key[lo_i[rep] + pos])
+        points_out.append(by_key[at])
     if not edges_out:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     # One int64 key per pair: np.unique on rows (axis=0) sorts them as bytes, far slower.
