@@ -318,10 +318,7 @@ class LodJob:
                 if before is not None and _unchanged(before, chain[k]):
                     chain[k] = before  # (one mesh, measured once: lod.compute repeats it)
                 if chain[k] is before or (k == 0 and len(chain[0].faces) == len(lod_input.data.faces)):
-                    lod_input.warnings.append(
-                        f"LOD{k + 1} repeats " + (f"LOD{k}" if k else "the whole part")
-                        + f": nothing coarser is within the asset's deviation {lod_input.deviations[k]:.4g} "
-                          f"(the object's units)")
+                    lod_input.warnings.append(deviation_search.repeat_note(k + 1, lod_input.deviations[k]))
             lod_input.chain = chain
             lod_input.chain_requested = list(lod_input.deviations[:len(chain)])
             lod_input.chain_measured = measured

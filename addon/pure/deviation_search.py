@@ -109,9 +109,7 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     for f in found:
         if f.level is None and lod_input.in_asset:
             k = found.index(f) + 1
-            lod_input.warnings.append(
-                f"LOD{k} repeats " + (f"LOD{k - 1}" if k > 1 else "the whole part")
-                + f": nothing coarser is within the asset's deviation {f.deviation:.4g} (the object's units)")
+            lod_input.warnings.append(repeat_note(k, f.deviation))
         elif f.level is None:
             lod_input.warnings.append(
                 f"no LOD within {f.deviation:.4g} (the object's units): no level coarser than the "
@@ -133,6 +131,14 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         column, value, scale = lod_input.limit
         lod_input.limit = (column, tuple(value[found.index(f)] for f in kept), scale)
     return [f.level for f in kept], [f.deviation for f in kept], {id(f.level): measured[id(f.level)] for f in kept}
+
+
+def repeat_note(k: int, deviation: float) -> str:
+    """What a part of an asset says when its LOD ``k`` (1-based) repeats the level before
+    (at LOD1, the whole part): nothing coarser is within the asset's ``deviation`` (the
+    object's units)."""
+    return (f"LOD{k} repeats " + (f"LOD{k - 1}" if k > 1 else "the whole part")
+            + f": nothing coarser is within the asset's deviation {deviation:.4g} (the object's units)")
 
 
 def _level_limits(lod_input) -> dict:
