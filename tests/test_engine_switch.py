@@ -17,7 +17,8 @@ KEYS = ("deviation", "switch_distance", "msft_screen_coverage", "unreal_screen_s
 @pytest.fixture(scope="module")
 def scene(blender_user_dir, tmp_path_factory):
     out = tmp_path_factory.mktemp("engines")
-    paths = {"glb": str(out / "monkey.glb"), "fbx": str(out / "monkey.fbx"), "unmeasured_glb": str(out / "plain.glb")}
+    paths = {"glb": str(out / "monkey.glb"), "fbx": str(out / "monkey.fbx"), "unmeasured_glb": str(out / "plain.glb"),
+             "paused_glb": str(out / "skin_paused.glb"), "plain_glb": str(out / "skin_plain.glb")}
     result = run_scenario("engine_switch", paths, user_dir=blender_user_dir)
     return {**result, "paths": paths}
 
@@ -91,3 +92,19 @@ def test_unmeasured_chain_has_no_switch_data(scene):
     gltf = glb_json(scene["paths"]["unmeasured_glb"])
     assert "MSFT_lod" not in gltf.get("extensionsUsed", [])
     assert not any("MSFT_lod" in n.get("extensions", {}) for n in gltf["nodes"])
+
+
+def test_pausing_armature_deform_for_the_export_changes_no_byte_and_restores_the_modifiers(scene):
+    """The command line's glTF export switches every Armature modifier off while the
+    exporter samples the actions (addon/headless/scene_files.armature_deform_paused): the
+    file must be the exporter's own, skins and animation included, and the scene as it was."""
+    from pathlib import Path
+
+    skin = scene["animated_skin"]
+    assert skin["armature_modifiers"] == 3  # the tube and its two LODs
+    assert skin["shown_after"] == [True] * 3
+    paused, plain = (Path(scene["paths"][k]).read_bytes() for k in ("paused_glb", "plain_glb"))
+    assert paused == plain
+    doc = glb_json(scene["paths"]["paused_glb"])
+    assert len(doc["skins"]) == 1 and len(doc["animations"]) == 1
+    assert sum("skin" in node for node in doc["nodes"]) == 3

@@ -168,6 +168,32 @@ def gltf_hooks_visible():
             addons.remove(addon)
 
 
+@contextlib.contextmanager
+def armature_deform_paused():
+    """Every Armature modifier off in the viewport while the glTF exporter runs, as it was
+    after.
+
+    The exporter samples each action frame by frame (``scene.frame_set``), and every frame
+    re-evaluates each skinned mesh's deformation, which it never reads: with skins and
+    ``export_apply`` on it switches each object's Armature modifiers off itself to read the
+    rest mesh (io_scene_gltf2 ``blender/exp/nodes.py``), finds the skin by the modifier's
+    type and object, and reads only bones and shape-key weights per frame. A LOD chain
+    multiplies the skinned meshes by its levels: on RobotExpressive (19 parts, 3 levels)
+    the export then took 5.5 s instead of 4 s, the written file byte-identical either way.
+    """
+    import bpy
+
+    paused = [mod for ob in bpy.data.objects if ob.type == 'MESH'
+              for mod in ob.modifiers if mod.type == 'ARMATURE' and mod.show_viewport]
+    for mod in paused:
+        mod.show_viewport = False
+    try:
+        yield
+    finally:
+        for mod in paused:
+            mod.show_viewport = True
+
+
 def export_scene(path: Path) -> None:
     import bpy
 
@@ -179,7 +205,7 @@ def export_scene(path: Path) -> None:
         # export_apply: the LODs were made from the evaluated meshes, so LOD0 must be
         # written evaluated too (the exporter leaves skinning to the glTF skin).
         # The hooks add MSFT_lod and the switch data (addon/gltf_lod.py).
-        with gltf_hooks_visible():
+        with gltf_hooks_visible(), armature_deform_paused():
             bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
                                       use_selection=False, export_apply=True)
     elif ext == ".fbx":
