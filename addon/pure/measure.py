@@ -49,7 +49,10 @@ Blender and its sampling and statistics run anywhere; measuring needs bpy's math
 """
 from __future__ import annotations
 
+import itertools
+import operator
 import time
+import weakref
 import zlib
 from dataclasses import dataclass
 from typing import Optional
@@ -57,6 +60,10 @@ from typing import Optional
 import numpy as np
 
 DEFAULT_SAMPLES = 500_000  # area-uniform samples per surface (vertices come on top)
+
+# Of what find_nearest returns, (location, normal, triangle index, distance):
+_DISTANCE = operator.itemgetter(3)
+_INDEX_AND_DISTANCE = operator.itemgetter(2, 3)
 
 # The pilot that sets the search radius: this many unbounded queries at most (and one
 # query in _PILOT_SHARE, at least _PILOT_MIN), and the radius is this multiple of the
@@ -182,11 +189,27 @@ def set_tree_builder(build) -> None:
     _tree_builder = build
 
 
+# The trees of the last few surfaces measured, by the identity of their arrays: a source
+# is measured against each of its levels (and its parts' sources once per level of an
+# asset), and building its tree again took a third of the engine's tree time. An entry
+# holds weak references, so a freed array (whose id Python may give to a new one) never
+# matches; the arrays are read, never written, while measured.
+_TREE_CACHE_SIZE = 8
+_tree_cache: list = []
+
+
 def _build_tree(v: np.ndarray, f: np.ndarray):
     if _tree_builder is None:
         raise RuntimeError("no closest-point tree to measure with: the add-on's package installs "
                            "Blender's on import (addon/bvh.py)")
-    return _tree_builder(v, f)
+    for i, (v_ref, f_ref, build, tree) in enumerate(_tree_cache):
+        if v_ref() is v and f_ref() is f and build is _tree_builder:
+            _tree_cache.append(_tree_cache.pop(i))
+            return tree
+    tree = _tree_builder(v, f)
+    _tree_cache.append((weakref.ref(v), weakref.ref(f), _tree_builder, tree))
+    del _tree_cache[:-_TREE_CACHE_SIZE]
+    return tree
 
 
 def _distances(tree, points: np.ndarray, with_faces: bool = False):
@@ -205,14 +228,16 @@ def _distances(tree, points: np.ndarray, with_faces: bool = False):
     extent = float(np.ptp(points, axis=0).max()) if len(points) > 1 else 1.0
     radius = max(radius, extent * 1e-6, 1e-12)
     # None (nothing within the radius) becomes NaN here and is re-queried unbounded.
+    # map and itemgetter keep the loop over the points in C: no bytecode per point.
+    found = map(find, pts, itertools.repeat(radius))
     if not with_faces:
-        d = np.array([find(p, radius)[3] for p in pts], dtype=np.float64)
+        d = np.fromiter(map(_DISTANCE, found), dtype=np.float64, count=len(pts))
         miss = np.flatnonzero(np.isnan(d))
         if len(miss):
             d[miss] = [find(pts[i])[3] for i in miss.tolist()]
         return d
-    # (index, distance) pairs: one slice of find_nearest's tuple, so the loop stays as bare.
-    hits = np.array([find(p, radius)[2:] for p in pts], dtype=np.float64)
+    # (index, distance) pairs: one slice of find_nearest's tuple.
+    hits = np.array(list(map(_INDEX_AND_DISTANCE, found)), dtype=np.float64)
     miss = np.flatnonzero(np.isnan(hits[:, 1]))
     if len(miss):
         hits[miss] = [find(pts[i])[2:] for i in miss.tolist()]
