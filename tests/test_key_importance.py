@@ -116,6 +116,19 @@ def test_key_samples_share_the_budget_over_many_keys():
         assert counts[-1] >= key_deviation.KEY_SAMPLES_MIN
 
 
+def test_a_parts_key_samples_follow_its_share_of_the_asset_as_its_report_does():
+    """A part of an asset samples each key from what its report gets (its share of the
+    asset's area), never from its own size alone; a lone mesh is unchanged."""
+    triangles = 1_700  # a head of a character: 27,200 samples as a mesh of its own
+    own = report_samples(triangles)
+    for share in (1_000, 5_000, own, 10 * own):
+        assert key_deviation.key_samples(triangles, 4, share) == max(key_deviation.KEY_SAMPLES_MIN,
+                                                                     report_samples(triangles, share))
+        assert key_deviation.key_samples(triangles, 4, share) <= key_deviation.key_samples(triangles, 4)
+    assert key_deviation.key_samples(triangles, 4, 5_000) < key_deviation.key_samples(triangles, 4) == own
+    assert key_deviation.key_samples(triangles, 4, None) == own
+
+
 def test_worst_key_is_the_furthest():
     keys = [{"name": "A", "hausdorff": 0.1}, {"name": "B", "hausdorff": 0.3}, {"name": "C", "hausdorff": 0.2}]
     assert key_deviation.worst(keys)["name"] == "B" and key_deviation.worst([]) is None

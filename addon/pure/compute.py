@@ -148,7 +148,7 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         if measuring and data.shape_keys:
             # Each key's shape too: the LOD with the key at 1 against the source with it.
             entry["shape_keys"] = reports[-1]["shape_keys"] if repeated and "shape_keys" in reports[-1] \
-                else key_deviation.level_key_deviations(data, levels[-1])
+                else key_deviation.level_key_deviations(data, levels[-1], part_samples=lod_input.part_samples)
         if lod_input.importance is not None:
             density = imp.importance_density(lod_input.importance, result.vertex_origin,
                                          imp.region_word(lod_input.settings.importance_source))

@@ -86,10 +86,13 @@ def offsets_of(data) -> np.ndarray:
                        data.basis_name)
 
 
-def key_samples(triangles: int, keys: int) -> int:
-    """Area samples per surface and key for a surface of ``triangles`` triangles with ``keys`` keys."""
+def key_samples(triangles: int, keys: int, part_samples: Optional[int] = None) -> int:
+    """Area samples per surface and key for a surface of ``triangles`` triangles with ``keys``
+    keys; ``part_samples``: for a part of an asset, what its report gets
+    (deviation_search.part_samples), so that its keys follow its share of the asset's area
+    as its report does (the robot's three head parts paid their own 10,000-28,000 a key)."""
     share = math.ceil(max(keys, 1) / KEYS_AT_FULL_SAMPLES)
-    return max(KEY_SAMPLES_MIN, report_samples(triangles) // share)
+    return max(KEY_SAMPLES_MIN, report_samples(triangles, part_samples) // share)
 
 
 def key_region(offsets: np.ndarray, faces: np.ndarray, share: float = REGION_SHARE) -> np.ndarray:
@@ -110,7 +113,8 @@ def _area_share(vertices: np.ndarray, faces: np.ndarray, region: np.ndarray) -> 
     return 100.0 * float(area[region].sum()) / total if total > 0 else 0.0
 
 
-def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
+def level_key_deviations(data, level, diagonal: Optional[float] = None,
+                         part_samples: Optional[int] = None) -> list:
     """[{name, hausdorff, mean, hausdorff_percent, mean_percent, and for a key that moves
     the mesh: region_mean, region_hausdorff, region_mean_percent, region_hausdorff_percent,
     region_area_percent}] per shape key of the source ``data``: ``level`` (a LOD of it,
@@ -118,14 +122,15 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None) -> list:
     surface and over the key's own region (key_region, measured both ways:
     measure.region_deviation; region_area_percent: the share of the source's
     area with the key at 1 that the region covers). Percent of ``diagonal`` (by default
-    the rest source's bounding-box diagonal). [] when the source has no shape keys."""
+    the rest source's bounding-box diagonal); ``part_samples`` as key_samples takes it.
+    [] when the source has no shape keys."""
     if not data.shape_keys:
         return []
     if diagonal is None:
         diagonal = measure.bbox_diagonal(data.vertices, data.faces)
     source, lod = offsets_of(data), offsets_of(level)
     keys = len(data.shape_keys)
-    samples = (key_samples(len(data.faces), keys), key_samples(len(level.faces), keys))
+    samples = (key_samples(len(data.faces), keys, part_samples), key_samples(len(level.faces), keys, part_samples))
     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
     out = []
     still = None  # keys that move nothing are the rest shape: measured once
