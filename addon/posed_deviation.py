@@ -8,7 +8,8 @@ FRAMES_PER_ACTION frames spread over each action's frame range (MAX_FRAMES in al
 spread over the actions); at each frame the source and its LODs are evaluated by
 Blender's depsgraph (the Armature modifier as it deforms them, constraints, IK and
 Preserve Volume included: exact by construction) and measured against each other in
-their own (local) coordinates with measure.surface_deviation at posed_samples. Per LOD
+their own (local) coordinates at posed_samples: level k of all the chains one armature
+deforms in one go (measure.part_deviations), each chain's numbers from its own points. Per LOD
 the report gets the mean and the largest, over the frames, of the two-sided Hausdorff
 and mean distance, in percent of the source's bounding-box diagonal at rest.
 
@@ -31,18 +32,26 @@ from .rig import armature_of
 
 FRAMES_PER_ACTION = 8
 MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)
+POSED_SAMPLES_MIN = 500  # area samples a surface and frame (posed_samples), and vertices
 _POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3), ("rotation_axis_angle", 4),
                ("scale", 3))
 _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_axis_angle", "scale")
 
 
-def posed_samples(triangles: int, part_samples: Optional[int] = None) -> int:
-    """Area samples per surface and frame: a quarter of the report's (2,000 to 12,500), as
-    every LOD is measured once per frame; the vertices are queried on top. A part of an
-    asset (``part_samples``: what its report gets) a quarter of its report's, at least 250."""
-    if part_samples is not None:
-        return max(250, report_samples(triangles, part_samples) // 4)
-    return max(2_000, report_samples(triangles) // 4)
+def posed_samples_of(surfaces: list, frames: int = MAX_FRAMES) -> int:
+    """posed_samples of several surfaces measured as one, [(triangles, part_samples or
+    None)]: what their reports sample together, shared over the frames, the floor once."""
+    total = sum(report_samples(triangles, share) for triangles, share in surfaces)
+    return max(POSED_SAMPLES_MIN, total // max(int(frames), 1))
+
+
+def posed_samples(triangles: int, part_samples: Optional[int] = None, frames: int = MAX_FRAMES) -> int:
+    """Area samples per surface and frame, and the most vertices queried on top: over its
+    ``frames`` frames a level is sampled about as much as its report samples it once
+    (report_samples; ``part_samples``: for a part of an asset, what its report gets), at
+    least POSED_SAMPLES_MIN a frame. (A quarter of the report's a frame, every vertex on
+    top, made the posed distance of a 75,000-triangle character 10 s of a 14 s run.)"""
+    return max(POSED_SAMPLES_MIN, report_samples(triangles, part_samples) // max(int(frames), 1))
 
 
 def actions_of(arm) -> list:
@@ -113,6 +122,65 @@ def _play(arm, action, slot) -> None:
             anim.action_slot = anim.action_suitable_slots[0]
 
 
+def _measure_frame(depsgraph, group, frames: int) -> list:
+    """[(level entry, Hausdorff %, mean %)] of every level of the ``group``'s chains as the
+    depsgraph poses them now. Level k of all the chains is measured in one go against
+    all their sources (measure.part_deviations: one tree and one query loop a side,
+    whatever the number of parts), each chain's numbers from the points on its own
+    triangles, in percent of its own diagonal at rest; the sources' joined mesh (and so
+    its tree) is the same for every level that has all the chains."""
+    sources = [evaluated_triangles(chain[0], depsgraph) for chain in group]
+    levels = [[evaluated_triangles(lod, depsgraph) for lod in chain[1]] for chain in group]
+    moves = _apart([sources[i]] + levels[i] for i in range(len(group)))
+    joined_sources = {}
+    out = []
+    for k in range(max(len(chain[1]) for chain in group)):
+        chains = tuple(i for i in range(len(group))
+                       if k < len(levels[i]) and len(sources[i][1]) and len(levels[i][k][1]))
+        if not chains:
+            continue
+        if chains not in joined_sources:
+            joined_sources[chains] = _joined([sources[i] for i in chains], moves[list(chains)])
+        src_v, src_f, src_part = joined_sources[chains]
+        dst_v, dst_f, dst_part = _joined([levels[i][k] for i in chains], moves[list(chains)])
+        n_src = posed_samples_of([(len(sources[i][1]), group[i][4]) for i in chains], frames)
+        n_dst = posed_samples_of([(len(levels[i][k][1]), group[i][4]) for i in chains], frames)
+        hausdorff, mean = measure.part_deviations(src_v, src_f, src_part, dst_v, dst_f, dst_part, len(chains),
+                                                  n_samples=(n_src, n_dst), vertex_limit=max(n_src, n_dst),
+                                                  find_shared=False)
+        for j, i in enumerate(chains):
+            diagonal = group[i][3]
+            scale = 100.0 / diagonal if diagonal > 0 else float("nan")
+            out.append((group[i][2][k], float(hausdorff[j]) * scale, float(mean[j]) * scale))
+    return out
+
+
+def _apart(meshes_per_chain) -> np.ndarray:
+    """(chains, 3) translations that put each chain (its source and LODs, a list of
+    (vertices, faces)) in its own cell of a grid, three times the largest chain's extent
+    apart: each is measured in its own object's coordinates, as if alone (no point is
+    nearer another chain's surface than its own), and the cells stay few per axis, as
+    the trees are single precision."""
+    stacked = [np.concatenate([v for v, _ in meshes]) for meshes in meshes_per_chain]
+    if len(stacked) == 1:
+        return np.zeros((1, 3))
+    lows = np.array([v.min(0) if len(v) else np.zeros(3) for v in stacked])
+    span = max((float(np.ptp(v, axis=0).max()) for v in stacked if len(v)), default=0.0)
+    side = int(np.ceil(len(stacked) ** (1.0 / 3.0) - 1e-9))
+    j = np.arange(len(stacked))
+    cells = np.stack([j % side, (j // side) % side, j // (side * side)], axis=1)
+    return cells * (3.0 * max(span, 1e-9)) - lows
+
+
+def _joined(meshes: list, moves: np.ndarray) -> tuple:
+    """(vertices, faces, part of each face) of several (vertices, faces), each moved by
+    its row of ``moves``, as one mesh."""
+    offsets = np.cumsum([0] + [len(v) for v, _ in meshes[:-1]])
+    return (np.concatenate([v + move for (v, _), move in zip(meshes, moves)]),
+            np.concatenate([f + o for (_, f), o in zip(meshes, offsets)]),
+            np.concatenate([np.full(len(f), j, dtype=np.int64) for j, (_, f) in enumerate(meshes)]))
+
+
 def evaluated_triangles(ob, depsgraph) -> tuple:
     """(vertices (n, 3) float64 in the object's own coordinates, triangles (m, 3)) of
     ``ob`` as the depsgraph evaluates it now (modifiers, pose)."""
@@ -163,6 +231,7 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
     count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, MAX_FRAMES)
     per_level = {id(entry): [] for _, _, entries, _, _ in group for entry in entries}
     frames_of = []
+    frames_in_all = sum(len(level_deviation.sample_frames(*action.frame_range, count)) for action, _ in played)
     with _animation_kept(scene, arm, depsgraph_of):
         for action, slot in played:
             start, end = action.frame_range
@@ -173,17 +242,8 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
                 scene.frame_set(frame)
                 depsgraph = depsgraph_of()
                 depsgraph.update()
-                for source, lods, entries, diagonal, share in group:
-                    src = evaluated_triangles(source, depsgraph)
-                    scale = 100.0 / diagonal if diagonal > 0 else float("nan")
-                    for lod_ob, entry in zip(lods, entries):
-                        lod = evaluated_triangles(lod_ob, depsgraph)
-                        if len(src[1]) == 0 or len(lod[1]) == 0:
-                            continue
-                        rep = measure.surface_deviation(*src, *lod, n_samples=(posed_samples(len(src[1]), share),
-                                                                                   posed_samples(len(lod[1]), share)))
-                        per_level[id(entry)].append((action.name, frame, rep["hausdorff"] * scale,
-                                                     rep["mean"] * scale))
+                for entry, h, m in _measure_frame(depsgraph, group, frames_in_all):
+                    per_level[id(entry)].append((action.name, frame, h, m))
     skipped = len(actions) - len(played)
     for _, _, entries, _, _ in group:
         for entry in entries:

@@ -6,12 +6,14 @@ an asset should cost what its triangles cost, not what its number of parts costs
 Generates a robot-like character (every input is made here): ``--parts`` closed,
 bumpy parts (subdivided icospheres stretched into limbs and plates) along a chain of as
 many bones, each part skinned to its own bone (an Armature modifier and a vertex group,
-as a glTF exporter writes a part per bone), about ``--triangles`` triangles in all. Then,
-timed inside one loaded Blender from the scene to the committed LOD objects (LodJob.run
-and commit, ratios 0.5 0.25 0.125, measuring on unless --no-measure):
-  * as an asset: the parts selected, one LOD set (the default);
-  * as one mesh: the same parts joined into one object (one vertex group per bone).
-Prints the two times, their ratio and the drawn triangles per level, with the processor.
+as a glTF exporter writes a part per bone), about ``--triangles`` triangles in all, and
+an action of 30 frames turning every bone. Then, timed inside one loaded Blender from
+the scene to a written .glb (ratios 0.5 0.25 0.125; the same exporter call for all):
+  * as an asset: LodJob on the parts, one LOD set (the default), measuring on unless
+    --no-measure;
+  * as one mesh: the same parts joined into one object (one vertex group per bone);
+  * Decimate on every part, static copies and rigged copies (bench/assets.py's scripts).
+Prints the times, their ratios and the drawn triangles per level, with the processor.
 Run it alone (2 cores).
 """
 from __future__ import annotations
@@ -23,9 +25,12 @@ import _bootstrap  # noqa: F401  (path + isolated user dirs, before bpy)
 import bpy
 import numpy as np
 
+import tempfile
+from pathlib import Path
+
 from addon import job as job_mod
 from addon import lod
-from assets import processor
+from assets import decimate_rigged_script, decimate_script, export, processor
 
 RATIOS = (0.5, 0.25, 0.125)
 
@@ -76,6 +81,7 @@ def build(parts: int, triangles: int, joined: bool) -> list:
         bone.head = (0.8 * np.cos(i * 0.7), 0.8 * np.sin(i * 0.7), 0.25 * i - 0.1)
         bone.tail = (bone.head[0], bone.head[1], bone.head[2] + 0.2)
     bpy.ops.object.mode_set(mode='OBJECT')
+    animate(rig)
     meshes = [part_mesh(i, triangles // parts, rng) for i in range(parts)]
     groups = [np.full(len(V), i) for i, (V, _) in enumerate(meshes)]
     if joined:
@@ -99,15 +105,38 @@ def build(parts: int, triangles: int, joined: bool) -> list:
     return objects
 
 
+def animate(rig) -> None:
+    """An action of 30 frames: every bone turns a little and back (the exporter samples it)."""
+    for frame, angle in ((1, 0.0), (15, 0.3), (30, 0.0)):
+        for i, bone in enumerate(rig.pose.bones):
+            bone.rotation_mode = 'XYZ'
+            bone.rotation_euler = (angle * (1 if i % 2 else -1), 0.0, 0.0)
+            bone.keyframe_insert("rotation_euler", frame=frame)
+    bpy.context.scene.frame_start, bpy.context.scene.frame_end = 1, 30
+
+
 def timed(parts: int, triangles: int, joined: bool, measure: bool) -> tuple:
     objects = build(parts, triangles, joined)
-    t0 = time.perf_counter()
-    job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(ratios=RATIOS, measure_deviation=measure))
-    job.run()
-    reports = job.commit(bpy.context)
-    seconds = time.perf_counter() - t0
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(ratios=RATIOS, measure_deviation=measure))
+        job.run()
+        reports = job.commit(bpy.context)
+        export(Path(tmp) / "out.glb")
+        seconds = time.perf_counter() - t0
     drawn = [sum(r["levels"][k]["triangles"] for r in reports if len(r["levels"]) > k) for k in range(len(RATIOS))]
     source = sum(r["source_triangles"] for r in reports)
+    return seconds, source, drawn
+
+
+def timed_script(parts: int, triangles: int, script) -> tuple:
+    objects = build(parts, triangles, False)
+    source = sum(len(ob.data.polygons) for ob in objects)  # the parts are triangles
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        levels = script(objects, list(RATIOS), Path(tmp) / "out.glb")
+        seconds = time.perf_counter() - t0
+    drawn = [sum(len(ob.data.polygons) for ob in level) for level in levels]
     return seconds, source, drawn
 
 
@@ -119,13 +148,18 @@ def main() -> None:
     args = parser.parse_args()
     print(f"Processor: {processor()}; bpy {bpy.app.version_string}; ratios {RATIOS}; "
           f"measuring {'off' if args.no_measure else 'on'}\n")
-    print("| input | objects | triangles | LOD1 / LOD2 / LOD3 drawn | seconds | vs one mesh |")
-    print("|---|---|---|---|---|---|")
+    print("| input | objects | triangles | LOD1 / LOD2 / LOD3 drawn | seconds | vs one mesh "
+          "| vs Decimate | vs Decimate, rigged |")
+    print("|---|---|---|---|---|---|---|---|")
+    static = timed_script(args.parts, args.triangles, decimate_script)
+    rigged = timed_script(args.parts, args.triangles, decimate_rigged_script)
     one = timed(args.parts, args.triangles, True, not args.no_measure)
     many = timed(args.parts, args.triangles, False, not args.no_measure)
-    for name, objects, (seconds, source, drawn) in (("one mesh", 1, one), ("asset", args.parts, many)):
+    for name, objects, (seconds, source, drawn) in (("Decimate, static copies", args.parts, static),
+                                                    ("Decimate, rigged copies", args.parts, rigged),
+                                                    ("one mesh", 1, one), ("asset", args.parts, many)):
         print(f"| {name} | {objects} | {source:,} | {' / '.join(f'{d:,}' for d in drawn)} | {seconds:.2f} | "
-              f"{seconds / one[0]:.2f}x |", flush=True)
+              f"{seconds / one[0]:.2f}x | {seconds / static[0]:.2f}x | {seconds / rigged[0]:.2f}x |", flush=True)
 
 
 if __name__ == "__main__":

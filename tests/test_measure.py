@@ -73,6 +73,65 @@ def test_bounded_queries_fall_back_to_exact_distances():
     assert faces.dtype == np.int64 and np.all(faces == 0)
 
 
+class _BruteTree:
+    """Stands in for a BVHTree of any triangles: every triangle tried (NumPy, exact)."""
+
+    def __init__(self, v, f):
+        self.a, self.b, self.c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+
+    def find_nearest(self, co, distance=float("inf")):
+        from core.geometry import closest_on_triangles
+
+        p = np.broadcast_to(np.asarray(co, dtype=np.float64), self.a.shape)
+        bary, d2 = closest_on_triangles(p, self.a, self.b, self.c)
+        i = int(np.argmin(d2))
+        d = float(np.sqrt(d2[i]))
+        if d > distance:
+            return (None, None, None, None)
+        return (tuple(bary[i] @ np.stack([self.a[i], self.b[i], self.c[i]])), (0.0, 0.0, 1.0), i, d)
+
+
+@pytest.fixture
+def brute_trees(monkeypatch):
+    monkeypatch.setattr(measure, "_tree_builder", _BruteTree)
+    monkeypatch.setattr(measure, "_tree_cache", [])
+
+
+def test_part_deviations_of_one_part_are_surface_deviations_numbers(brute_trees):
+    v, f = grid(4, jitter=0.2)
+    lod_v = v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])]
+    for limit in (None, 6):
+        whole = measure.surface_deviation(v, f, lod_v, f[::-1], n_samples=(300, 200), vertex_limit=limit)
+        h, m = measure.part_deviations(v, f, np.zeros(len(f), int), lod_v, f[::-1], np.zeros(len(f), int), 1,
+                                       n_samples=(300, 200), vertex_limit=limit)
+        assert h[0] == whole["hausdorff"] and m[0] == pytest.approx(whole["mean"], rel=1e-12)
+    capped = measure.surface_deviation(v, f, lod_v, f, n_samples=(300, 200), vertex_limit=6)
+    assert capped["points_src"] == 300 + 6 and capped["points_dst"] == 200 + 6
+
+
+def test_part_deviations_give_each_part_its_own_distance(brute_trees):
+    # Three flat parts side by side; in the LOD each part's middle vertex is raised by its
+    # own height, so each part's Hausdorff distance is exactly that height (the raised
+    # vertex right above its own part's plane), whichever part is nearest elsewhere.
+    v, f = grid(4, alternate=False)
+    middle = int(np.argmin(np.linalg.norm(v - [0.5, 0.5, 0.0], axis=1)))
+    heights = [0.02, 0.3, 0.0]
+    src_v, src_f, lod_v = [], [], []
+    for j, height in enumerate(heights):
+        moved = v + [1.5 * j, 0.0, 0.0]
+        src_v.append(moved)
+        src_f.append(f + len(v) * j)
+        raised = moved.copy()
+        raised[middle, 2] += height
+        lod_v.append(raised)
+    src_v, src_f, lod_v = np.concatenate(src_v), np.concatenate(src_f), np.concatenate(lod_v)
+    part = np.repeat(np.arange(3), len(f))
+    h, m = measure.part_deviations(src_v, src_f, part, lod_v, src_f, part, 4, n_samples=600)
+    np.testing.assert_allclose(h[:3], heights, rtol=1e-12, atol=1e-12)
+    assert m[2] == 0.0 and 0.0 < m[0] < m[1] < heights[1]
+    assert np.isnan(h[3]) and np.isnan(m[3])  # a part neither surface has
+
+
 def test_samples_carry_their_triangle_and_barycentric_coordinates():
     v, f = grid(4, jitter=0.2)
     points, tri, bary = measure._sample_surface(v, f, 1000, np.random.default_rng(5))

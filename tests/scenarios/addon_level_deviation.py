@@ -230,8 +230,9 @@ def run_posed() -> dict:
     rig.animation_data.use_nla = False
     scene.frame_set(worst["frame"])
     src, low = posed_triangles(ob), posed_triangles(lod_ob)
-    again = measure.surface_deviation(*src, *low, n_samples=(posed_deviation.posed_samples(len(src[1])),
-                                                              posed_deviation.posed_samples(len(low[1]))))
+    # 16 frames in all (8 of each action): each frame samples a 16th of the report's.
+    n = (posed_deviation.posed_samples(len(src[1]), frames=16), posed_deviation.posed_samples(len(low[1]), frames=16))
+    again = measure.surface_deviation(*src, *low, n_samples=n, vertex_limit=max(n))
     rest_v = array(ob.data.vertices, "co", 3).reshape(-1, 3).astype(float)
     ob.data.calc_loop_triangles()
     rest_f = array(ob.data.loop_triangles, "vertices", 3, np.int32).reshape(-1, 3)
