@@ -33,6 +33,7 @@ from .rig import armature_of
 FRAMES_PER_ACTION = 8
 MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)
 POSED_SAMPLES_MIN = 500  # area samples a surface and frame (posed_samples), and vertices
+POSED_SHARE = 2  # a frame: the report's area samples / (POSED_SHARE * frames), as many vertices
 _POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3), ("rotation_axis_angle", 4),
                ("scale", 3))
 _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_axis_angle", "scale")
@@ -40,18 +41,19 @@ _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_
 
 def posed_samples_of(surfaces: list, frames: int = MAX_FRAMES) -> int:
     """posed_samples of several surfaces measured as one, [(triangles, part_samples or
-    None)]: what their reports sample together, shared over the frames, the floor once."""
+    None)]: from what their reports sample together, the floor once."""
     total = sum(report_samples(triangles, share) for triangles, share in surfaces)
-    return max(POSED_SAMPLES_MIN, total // max(int(frames), 1))
+    return max(POSED_SAMPLES_MIN, total // (POSED_SHARE * max(int(frames), 1)))
 
 
 def posed_samples(triangles: int, part_samples: Optional[int] = None, frames: int = MAX_FRAMES) -> int:
     """Area samples per surface and frame, and the most vertices queried on top: over its
-    ``frames`` frames a level is sampled about as much as its report samples it once
-    (report_samples; ``part_samples``: for a part of an asset, what its report gets), at
-    least POSED_SAMPLES_MIN a frame. (A quarter of the report's a frame, every vertex on
-    top, made the posed distance of a 75,000-triangle character 10 s of a 14 s run.)"""
-    return max(POSED_SAMPLES_MIN, report_samples(triangles, part_samples) // max(int(frames), 1))
+    ``frames`` frames a level's area samples and vertices together are about as many as
+    the area samples its report measures it with once (report_samples; ``part_samples``:
+    for a part of an asset, what its report gets), half of them on the area; at least
+    POSED_SAMPLES_MIN a frame. (A quarter of the report's a frame, every vertex on top,
+    made the posed distance of a 75,000-triangle character 10 s of a 14 s run.)"""
+    return max(POSED_SAMPLES_MIN, report_samples(triangles, part_samples) // (POSED_SHARE * max(int(frames), 1)))
 
 
 def actions_of(arm) -> list:

@@ -284,7 +284,8 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
 def _queried_vertices(f: np.ndarray, limit: Optional[int]) -> np.ndarray:
     """The ids of the vertices ``f`` uses, or ``limit`` of them spread evenly over the ids
     (a mesh's vertex order follows its surface, so the subset does too)."""
-    used = np.unique(f)
+    # The ids in order, as np.unique gives them, without its sort of every corner.
+    used = np.flatnonzero(np.bincount(f.ravel(), minlength=int(f.max()) + 1 if f.size else 0))
     if limit is not None and len(used) > limit:
         used = np.unique(used[np.linspace(0, len(used) - 1, max(int(limit), 1)).round().astype(np.int64)])
     return used
