@@ -1,7 +1,7 @@
 """Whole assets (issue 32): one asset's LOD set against Blender's Decimate on every part,
 end to end inside one loaded Blender, and how far each level is from the source asset.
 
-    .venv/bin/python bench/assets.py [--ratios 0.5 0.25 0.125] [ASSET ...]
+    .venv/bin/python bench/assets.py [--ratios 0.5 0.25 0.125] [--repeat 3] [ASSET ...]
 
 Default assets: ../shared/assets (the CAD engine, the robot, the Kenney character,
 BoomBox). For each one, after its import (not timed), three or four ways to its LOD set, each
@@ -180,22 +180,27 @@ def measure_levels(source, levels, diagonal) -> list:
     return out
 
 
-def run_asset(path: Path, ratios: list) -> list:
+def run_asset(path: Path, ratios: list, repeat: int = 1) -> list:
     rows = []
     results = {}
     for way in ("decimate", "decimate, rigged", "asset", "per part"):
-        objects = load(path)
-        if way == "decimate, rigged" and not is_rigged(objects):
+        times = []
+        for _ in range(repeat):
+            objects = load(path)
+            if way == "decimate, rigged" and not is_rigged(objects):
+                break
+            with tempfile.TemporaryDirectory() as tmp:
+                t0 = time.perf_counter()
+                if way == "decimate":
+                    levels = decimate_script(objects, ratios, Path(tmp) / "out.glb")
+                elif way == "decimate, rigged":
+                    levels = decimate_rigged_script(objects, ratios, Path(tmp) / "out.glb")
+                else:
+                    levels = ours(objects, ratios, Path(tmp) / "out.glb", per_part=way == "per part")
+                times.append(time.perf_counter() - t0)
+        if not times:
             continue
-        with tempfile.TemporaryDirectory() as tmp:
-            t0 = time.perf_counter()
-            if way == "decimate":
-                levels = decimate_script(objects, ratios, Path(tmp) / "out.glb")
-            elif way == "decimate, rigged":
-                levels = decimate_rigged_script(objects, ratios, Path(tmp) / "out.glb")
-            else:
-                levels = ours(objects, ratios, Path(tmp) / "out.glb", per_part=way == "per part")
-            seconds = time.perf_counter() - t0
+        seconds = min(times)
         at_rest()
         source = world_triangles(objects)
         diagonal = float(np.linalg.norm(source[0].max(0) - source[0].min(0)))
@@ -217,9 +222,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("assets", nargs="*", default=[str(ASSETS / a) for a in DEFAULT])
     parser.add_argument("--ratios", nargs="+", type=float, default=[0.5, 0.25, 0.125])
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="time each way this many times, each from a fresh import, and keep the fastest "
+                             "(a few seconds move by half from run to run here)")
     args = parser.parse_args()
     print(f"Processor: {processor()}; bpy {bpy.app.version_string}; ratios {args.ratios}; "
-          f"Hausdorff and mean in % of the asset's diagonal, both sides {SAMPLES:,} samples\n")
+          f"Hausdorff and mean in % of the asset's diagonal, both sides {SAMPLES:,} samples; "
+          f"seconds: the fastest of {args.repeat}\n")
     print(header("asset", "objects", "triangles", "way", "LOD", "drawn", "Hausdorff %", "vs Decimate",
                  "mean %", "seconds", "vs Decimate", "vs Decimate, rigged"))
     for a in args.assets:
@@ -227,7 +236,7 @@ def main() -> None:
         if not path.is_file():
             print(f"(skipped {a}: not found)")
             continue
-        for line in run_asset(path, args.ratios):
+        for line in run_asset(path, args.ratios, args.repeat):
             print(line, flush=True)
 
 
