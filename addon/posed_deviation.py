@@ -5,7 +5,7 @@
 For each armature that deforms a measured chain: its actions (the active one, then the
 actions of its NLA strips, each once) are played one at a time, at up to
 FRAMES_PER_ACTION frames spread over each action's frame range (MAX_FRAMES in all,
-spread over the actions); at each frame the source and its LODs are evaluated by
+spread over the actions, fewer for heavy rigs: frame_budget); at each frame the source and its LODs are evaluated by
 Blender's depsgraph (the Armature modifier as it deforms them, constraints, IK and
 Preserve Volume included: exact by construction) and measured against each other in
 their own (local) coordinates at posed_samples: level k of all the chains one armature
@@ -32,6 +32,12 @@ from .rig import armature_of
 
 FRAMES_PER_ACTION = 8
 MAX_FRAMES = 16  # per armature, spread over its actions (a character may have dozens)
+# Each frame poses and measures every source and LOD the armature deforms (trees,
+# samples, the depsgraph): about 2.7 us a triangle here. An armature's frames are capped so
+# that frames x triangles stays under this (16 frames up to ~31,000 triangles a frame; a
+# 75,000-triangle character and its three LODs get 4), never fewer than MIN_FRAMES.
+POSED_TRIANGLE_FRAMES = 500_000
+MIN_FRAMES = 4
 POSED_SAMPLES_MIN = 500  # area samples a surface and frame (posed_samples), and vertices
 POSED_SHARE = 2  # a frame: the report's area samples / (POSED_SHARE * frames), as many vertices
 _POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3), ("rotation_axis_angle", 4),
@@ -228,9 +234,26 @@ def measure_chains(scene, depsgraph_of, chains: list) -> None:
         _measure_group(scene, depsgraph_of, arm, actions, group)
 
 
+def frame_budget(triangles_a_frame: int) -> int:
+    """How many frames an armature's chains are posed at: MAX_FRAMES, fewer (at least
+    MIN_FRAMES) when posing and measuring them all, ``triangles_a_frame`` (sources and
+    LODs), that often would pass POSED_TRIANGLE_FRAMES."""
+    return int(min(MAX_FRAMES, max(MIN_FRAMES, POSED_TRIANGLE_FRAMES // max(int(triangles_a_frame), 1))))
+
+
+def _triangles(ob) -> int:
+    """The triangles of ``ob``'s own mesh (its polygons' corners less two each)."""
+    polygons = ob.data.polygons
+    totals = np.empty(len(polygons), dtype=np.int64)
+    polygons.foreach_get("loop_total", totals)
+    return int((totals - 2).sum())
+
+
 def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
-    played = actions[:MAX_FRAMES]
-    count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, MAX_FRAMES)
+    most = frame_budget(sum(_triangles(source) + sum(_triangles(lod) for lod in lods)
+                            for source, lods, _, _, _ in group))
+    played = actions[:most]
+    count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, most)
     per_level = {id(entry): [] for _, _, entries, _, _ in group for entry in entries}
     frames_of = []
     frames_in_all = sum(len(level_deviation.sample_frames(*action.frame_range, count)) for action, _ in played)
@@ -255,5 +278,5 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
                      "per_frame": [{"action": a, "frame": f, "hausdorff_percent": h, "mean_percent": m}
                                    for a, f, h, m in rows]}
             if skipped:
-                posed["note"] = f"{skipped} more actions not played (at most {MAX_FRAMES} frames an armature)"
+                posed["note"] = f"{skipped} more actions not played (at most {most} frames for this armature)"
             entry["posed"] = posed

@@ -206,6 +206,27 @@ def test_frames_are_spread_over_the_action_and_bounded():
     assert ld.frames_per_action(40, 8, 16) == 1
 
 
+def test_heavy_rigs_are_posed_at_fewer_frames_and_sampled_from_their_reports():
+    from addon import posed_deviation as pd
+
+    # A light rig gets every frame; frames x triangles stays under the budget; never below the floor.
+    assert pd.frame_budget(3_000) == pd.MAX_FRAMES
+    for triangles in (40_000, 141_000, 10_000_000):
+        frames = pd.frame_budget(triangles)
+        assert pd.MIN_FRAMES <= frames < pd.MAX_FRAMES
+        assert frames * triangles <= pd.POSED_TRIANGLE_FRAMES or frames == pd.MIN_FRAMES
+    assert pd.frame_budget(141_000) == pd.MIN_FRAMES  # a 75,000-triangle character and its LODs
+    # Over its frames a level queries about its report's area samples: half on the area a frame.
+    from addon.pure.deviation_search import report_samples
+    assert pd.posed_samples(20_000, frames=16) == report_samples(20_000) // 32
+    assert pd.posed_samples(20_000, frames=4) == report_samples(20_000) // 8
+    assert pd.posed_samples(100, frames=16) == pd.POSED_SAMPLES_MIN
+    # Several surfaces measured as one: their reports' samples together, the floor once.
+    parts = [(1_000, 1_200), (1_000, 1_200), (50, None)]
+    assert pd.posed_samples_of(parts, 4) == max(pd.POSED_SAMPLES_MIN,
+                                                sum(report_samples(t, s) for t, s in parts) // 8)
+
+
 def test_posed_summary_is_the_mean_and_largest_over_frames():
     s = ld.posed_summary([1.0, 3.0], [0.1, 0.2])
     assert s == {"hausdorff_percent": {"mean": 2.0, "max": 3.0}, "mean_percent": {"mean": pytest.approx(0.15),
