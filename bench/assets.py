@@ -91,41 +91,19 @@ def export(path: Path) -> None:
         scene_files.export_scene(path)
 
 
-def decimate_script(objects, ratios, out: Path) -> list:
+def decimate_script(objects, ratios, out: Path, keep_rig: bool = False) -> list:
     """Decimate on every part, per level; returns the level objects per level. (Made at
     rest: a copy of an evaluated skinned mesh has its deformation applied, and the
-    comparison is at rest.)"""
+    comparison is at rest.) ``keep_rig``: each copy keeps its parent and Armature
+    modifiers, the Decimate applied to the rest mesh (the Armature modifiers off while
+    the copy is made)."""
     at_rest()
     levels = []
     depsgraph = bpy.context.evaluated_depsgraph_get()
     for k, ratio in enumerate(ratios, start=1):
         made = []
         for ob in objects:
-            mod = ob.modifiers.new("LODDecimate", 'DECIMATE')
-            mod.ratio = ratio
-            depsgraph.update()
-            mesh = bpy.data.meshes.new_from_object(ob.evaluated_get(depsgraph))
-            ob.modifiers.remove(mod)
-            copy = bpy.data.objects.new(f"{ob.name}_DLOD{k}", mesh)
-            copy.matrix_world = ob.matrix_world
-            for coll in ob.users_collection:
-                coll.objects.link(copy)
-            made.append(copy)
-        levels.append(made)
-    export(out)
-    return levels
-
-
-def decimate_rigged_script(objects, ratios, out: Path) -> list:
-    """decimate_script, each copy keeping its parent and Armature modifiers (the Decimate
-    applied to the rest mesh: the Armature modifiers off while the copy is made)."""
-    at_rest()
-    levels = []
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    for k, ratio in enumerate(ratios, start=1):
-        made = []
-        for ob in objects:
-            rigs = [m for m in ob.modifiers if m.type == 'ARMATURE' and m.show_viewport]
+            rigs = [m for m in ob.modifiers if m.type == 'ARMATURE' and m.show_viewport] if keep_rig else []
             for m in rigs:
                 m.show_viewport = False
             mod = ob.modifiers.new("LODDecimate", 'DECIMATE')
@@ -135,18 +113,25 @@ def decimate_rigged_script(objects, ratios, out: Path) -> list:
             ob.modifiers.remove(mod)
             for m in rigs:
                 m.show_viewport = True
-            copy = ob.copy()
-            copy.name = f"{ob.name}_DLOD{k}"
-            copy.data = mesh
-            for m in list(copy.modifiers):
-                if m.type != 'ARMATURE':
+            if keep_rig:
+                copy = ob.copy()
+                copy.name, copy.data = f"{ob.name}_DLOD{k}", mesh
+                for m in [m for m in copy.modifiers if m.type != 'ARMATURE']:
                     copy.modifiers.remove(m)
+            else:
+                copy = bpy.data.objects.new(f"{ob.name}_DLOD{k}", mesh)
+                copy.matrix_world = ob.matrix_world
             for coll in ob.users_collection:
                 coll.objects.link(copy)
             made.append(copy)
         levels.append(made)
     export(out)
     return levels
+
+
+def decimate_rigged_script(objects, ratios, out: Path) -> list:
+    """decimate_script with every copy keeping its rig."""
+    return decimate_script(objects, ratios, out, keep_rig=True)
 
 
 def is_rigged(objects) -> bool:
