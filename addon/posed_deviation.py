@@ -5,13 +5,14 @@
 For each armature that deforms a measured chain: its actions (the active one, then the
 actions of its NLA strips, each once) are played one at a time, at up to
 FRAMES_PER_ACTION frames spread over each action's frame range (MAX_FRAMES in all,
-spread over the actions, fewer for heavy rigs: frame_budget); at each frame the source and its LODs are evaluated by
-Blender's depsgraph (the Armature modifier as it deforms them, constraints, IK and
-Preserve Volume included: exact by construction) and measured against each other in
-their own (local) coordinates at posed_samples: level k of all the chains one armature
-deforms in one go (measure.part_deviations), each chain's numbers from its own points. Per LOD
-the report gets the mean and the largest, over the frames, of the two-sided Hausdorff
-and mean distance, in percent of the source's bounding-box diagonal at rest.
+spread over the actions; fewer for a heavy rig, frame_budget); at each frame the sources
+and their LODs are evaluated by Blender's depsgraph (the Armature modifier as it deforms
+them, constraints, IK and Preserve Volume included: exact by construction) and measured
+against each other in their own (local) coordinates at posed_samples: level k of all
+the chains one armature deforms in one go (measure.part_deviations), each chain's
+numbers from its own points. Per LOD the report gets the mean and the largest, over the
+frames, of the two-sided Hausdorff and mean distance, in percent of the source's
+bounding-box diagonal at rest.
 
 The scene is left as it was: the frame, the armature's action (and slot), its NLA
 switch, its pose and its transform are put back, whatever happens. An armature with no
@@ -46,20 +47,20 @@ _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_
 
 
 def posed_samples_of(surfaces: list, frames: int = MAX_FRAMES) -> int:
-    """posed_samples of several surfaces measured as one, [(triangles, part_samples or
-    None)]: from what their reports sample together, the floor once."""
+    """Area samples a frame for surfaces measured as one, [(triangles, part_samples or
+    None)], and the most vertices queried on top: over its ``frames`` frames a level's
+    area samples and vertices together are about as many as the area samples its reports
+    measure it with once (report_samples; ``part_samples``: for a part of an asset, what
+    its report gets), half of them on the area; at least POSED_SAMPLES_MIN a frame, once
+    for them all. (A quarter of the report's a frame, every vertex on top, made the
+    posed distance of a 75,000-triangle character 10 s of a 14 s run.)"""
     total = sum(report_samples(triangles, share) for triangles, share in surfaces)
     return max(POSED_SAMPLES_MIN, total // (POSED_SHARE * max(int(frames), 1)))
 
 
 def posed_samples(triangles: int, part_samples: Optional[int] = None, frames: int = MAX_FRAMES) -> int:
-    """Area samples per surface and frame, and the most vertices queried on top: over its
-    ``frames`` frames a level's area samples and vertices together are about as many as
-    the area samples its report measures it with once (report_samples; ``part_samples``:
-    for a part of an asset, what its report gets), half of them on the area; at least
-    POSED_SAMPLES_MIN a frame. (A quarter of the report's a frame, every vertex on top,
-    made the posed distance of a 75,000-triangle character 10 s of a 14 s run.)"""
-    return max(POSED_SAMPLES_MIN, report_samples(triangles, part_samples) // (POSED_SHARE * max(int(frames), 1)))
+    """posed_samples_of one surface."""
+    return posed_samples_of([(triangles, part_samples)], frames)
 
 
 def actions_of(arm) -> list:
@@ -255,13 +256,11 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
     played = actions[:most]
     count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, most)
     per_level = {id(entry): [] for _, _, entries, _, _ in group for entry in entries}
-    frames_of = []
-    frames_in_all = sum(len(level_deviation.sample_frames(*action.frame_range, count)) for action, _ in played)
+    frames_of = [{"name": action.name, "frames": level_deviation.sample_frames(*action.frame_range, count)}
+                 for action, _ in played]
+    frames_in_all = sum(len(f["frames"]) for f in frames_of)
     with _animation_kept(scene, arm, depsgraph_of):
-        for action, slot in played:
-            start, end = action.frame_range
-            frames = level_deviation.sample_frames(start, end, count)
-            frames_of.append({"name": action.name, "frames": frames})
+        for (action, slot), frames in zip(played, (f["frames"] for f in frames_of)):
             _play(arm, action, slot)
             for frame in frames:
                 scene.frame_set(frame)
