@@ -183,11 +183,12 @@ def armature_deform_paused():
     """
     import bpy
 
-    paused = [mod for ob in bpy.data.objects if ob.type == 'MESH'
-              for mod in ob.modifiers if mod.type == 'ARMATURE' and mod.show_viewport]
-    for mod in paused:
-        mod.show_viewport = False
+    paused = []
     try:
+        for mod in [mod for ob in bpy.data.objects if ob.type == 'MESH'
+                    for mod in ob.modifiers if mod.type == 'ARMATURE' and mod.show_viewport]:
+            mod.show_viewport = False
+            paused.append(mod)  # so that a failure part way still puts back what it paused
         yield
     finally:
         for mod in paused:
