@@ -73,6 +73,37 @@ def test_bounded_queries_fall_back_to_exact_distances():
     assert faces.dtype == np.int64 and np.all(faces == 0)
 
 
+def test_queries_run_with_the_collector_paused_and_leave_it_as_they_found_it():
+    import gc
+
+    seen = []
+
+    class Tree(_PlaneTree):
+        def find_nearest(self, co, distance=float("inf")):
+            seen.append(gc.isenabled())
+            return super().find_nearest(co, distance)
+
+    pts = np.c_[np.zeros(50), np.zeros(50), np.linspace(0.0, 1.0, 50)]
+    was = gc.isenabled()
+    try:
+        gc.enable()
+        np.testing.assert_array_equal(measure._distances(Tree(), pts), pts[:, 2])
+        assert seen and not any(seen)  # paused while querying ...
+        assert gc.isenabled()  # ... and on again after
+        with pytest.raises(RuntimeError):  # on again after a failure inside too
+            with measure.gc_paused():
+                assert not gc.isenabled()
+                raise RuntimeError
+        assert gc.isenabled()
+        gc.disable()  # a caller that turned it off keeps it off, nested or not
+        with measure.gc_paused():
+            with measure.gc_paused():
+                pass
+        assert not gc.isenabled()
+    finally:
+        (gc.enable if was else gc.disable)()
+
+
 class _BruteTree:
     """Stands in for a BVHTree of any triangles: every triangle tried (NumPy, exact)."""
 
