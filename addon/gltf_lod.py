@@ -29,7 +29,9 @@ An asset (addon/asset.py: its objects carry ``lqlod_asset``, its name) switches 
     no common ancestor). MSFT_lod and MSFT_screencoverage go on LOD0's node, the level
     nodes as its ids: each level a whole subtree, switched at the asset's distances.
     An asset with a skinned part keeps one MSFT_lod per chain instead: its skins' joints
-    live in LOD0's subtree, which a reader swapping whole subtrees would take away.
+    live in LOD0's subtree, which a reader swapping whole subtrees would take away. So
+    does an asset an animation moves (a node-animated character: its parts' channels,
+    which every level's node has, commit._copy_animation, are relative to their parents).
 """
 from __future__ import annotations
 
@@ -70,6 +72,8 @@ class glTF2ExportUserExtension:
         self.coverage = {}  # source name -> {level: MSFT screen coverage}
         self.asset_of = {}  # source name -> its asset's name
         self.assets = {}  # asset name -> its root node (LOD0) and level nodes, once made whole
+        self.mesh_nodes = {}  # a mesh object's name (a renamed LOD0's before renaming) -> its node
+        self.lod_nodes = []  # (its source's name, node) of every LOD object's node
         self.active = True
 
     def _claim(self, export_settings) -> bool:
@@ -79,6 +83,11 @@ class glTF2ExportUserExtension:
     def gather_node_hook(self, gltf2_node, blender_object, export_settings):
         if blender_object is None or not self._claim(export_settings):
             return
+        if blender_object.type == 'MESH':  # every LOD and source, measured or not (_share_morph_channels)
+            self.mesh_nodes[_base_name(blender_object)] = gltf2_node
+            source = blender_object.get(lod_objects.SOURCE_PROP)
+            if isinstance(source, str):
+                self.lod_nodes.append((source, gltf2_node))
         key = chain_key(blender_object)
         if key is None:
             return
@@ -94,18 +103,23 @@ class glTF2ExportUserExtension:
         gltf2_node.extras = extras
 
     def gather_gltf_hook(self, active_scene_idx, scenes, animations, export_settings):
-        """Each asset's levels as whole subtrees (module docstring), while the nodes are
-        still objects: the exporter numbers them after this."""
-        if not self.asset_of or not self.active:
+        """LOD nodes get their LOD0's morph-weight channels (_share_morph_channels), and each
+        asset's levels become whole subtrees (module docstring), while the nodes are still
+        objects: the exporter numbers them after this."""
+        if not self.active:
+            return
+        _share_morph_channels(self.lod_nodes, self.mesh_nodes, animations)
+        if not self.asset_of:
             return
         members = {}  # asset -> {level: [nodes]}
         for base, asset in self.asset_of.items():
             for level, node in self.chains.get(base, {}).items():
                 members.setdefault(asset, {}).setdefault(level, []).append(node)
+        moved = _transform_animated(animations)
         for scene in scenes:
             tree = _Tree(scene)
             for asset, levels in members.items():
-                made = _asset_levels(tree, asset, levels, export_settings)
+                made = _asset_levels(tree, asset, levels, moved, export_settings)
                 if made is not None:
                     self.assets[asset] = made
 
@@ -233,9 +247,68 @@ def _common_ancestor(tree: _Tree, nodes: list):
     return common
 
 
-def _asset_levels(tree: _Tree, asset: str, levels: dict, export_settings):
+def _base_name(ob) -> str:
+    """An object's name, or for a source renamed "<name>_LOD0" (lod_group.rename_as_lod0) its name before."""
+    base = ob.get(BASE_NAME_PROP)
+    return base if isinstance(base, str) else ob.name
+
+
+def _morph_targets(node) -> int:
+    mesh = node.mesh
+    if mesh is None or not getattr(mesh, "primitives", None):
+        return 0
+    return len(mesh.primitives[0].targets or [])
+
+
+def _share_morph_channels(lod_nodes: list, mesh_nodes: dict, animations) -> int:
+    """Each LOD node with no morph-weight channel of its own in an animation gets its
+    source's node's there, the same sampler, when its mesh has as many morph targets (a
+    LOD keeps every shape key, in order). animation.key_copies_paused kept the exporter
+    from sampling each level's copy of the source's shape-key actions, the same values
+    (a LOD whose keys the exporter did sample keeps its own channels). Returns the
+    channels added."""
+    from io_scene_gltf2.io.com import gltf2_io
+
+    followers = {}  # id(source node) -> [LOD nodes with as many morph targets]
+    for source, node in lod_nodes:
+        top = mesh_nodes.get(source)
+        if top is not None and top is not node and _morph_targets(top) and _morph_targets(node) == _morph_targets(top):
+            followers.setdefault(id(top), []).append(node)
+    added = 0
+    for animation in animations or []:
+        channels = animation.channels or []
+        weighted = {id(c.target.node) for c in channels if c.target is not None and c.target.path == "weights"}
+        for channel in list(channels):
+            target = channel.target
+            if target is None or target.path != "weights" or id(target.node) not in followers:
+                continue
+            for node in followers[id(target.node)]:
+                if id(node) in weighted:
+                    continue
+                channels.append(gltf2_io.AnimationChannel(
+                    extensions=None, extras=None, sampler=channel.sampler,
+                    target=gltf2_io.AnimationChannelTarget(extensions=None, extras=None, node=node, path="weights")))
+                weighted.add(id(node))
+                added += 1
+    return added
+
+
+def _transform_animated(animations) -> set:
+    """The ids of the gathered nodes an animation channel moves (translation, rotation or
+    scale; morph weights move no node)."""
+    moved = set()
+    for animation in animations or []:
+        for channel in animation.channels or []:
+            target = channel.target
+            if target is not None and target.node is not None and target.path in ("translation", "rotation", "scale"):
+                moved.add(id(target.node))
+    return moved
+
+
+def _asset_levels(tree: _Tree, asset: str, levels: dict, moved: set, export_settings):
     """Make the asset's levels whole subtrees in ``tree`` (module docstring); returns
-    (LOD0's node, [level nodes]) or None (not in this scene, a level missing, skinned)."""
+    (LOD0's node, [level nodes]) or None (not in this scene, a level missing, skinned, or
+    moved by an animation: ``moved``, the ids of animated nodes)."""
     count = max(levels) if levels else 0
     if count == 0 or sorted(levels) != list(range(count + 1)):
         return None
@@ -244,6 +317,13 @@ def _asset_levels(tree: _Tree, asset: str, levels: dict, export_settings):
     if any(node.skin is not None for nodes in levels.values() for node in nodes):
         export_settings['log'].info(
             f"{EXTENSION_NAME}: the asset {asset!r} has skinned parts: one {EXTENSION_NAME} per part")
+        return None
+    if any(id(above) in moved for nodes in levels.values() for node in nodes for above in tree.ancestors(node)):
+        # A level moved to a root of its own, in world space, would lose what moves its
+        # parts: their own channels are relative to their parents, and an animated
+        # ancestor would no longer be theirs. Each part keeps its place and its channels.
+        export_settings['log'].info(
+            f"{EXTENSION_NAME}: the asset {asset!r} has animated nodes: one {EXTENSION_NAME} per part")
         return None
     level_nodes = []
     for level in range(1, count + 1):

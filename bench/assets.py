@@ -8,12 +8,13 @@ BoomBox). For each one, after its import (not timed), three or four ways to its 
 timed from the imported scene to a written .glb (the same exporter call, measuring on):
   * decimate   a script: a Decimate modifier (ratio) on a copy of every mesh object per
                level, applied, then the export;
-  * decimate, rigged   (assets with an Armature modifier only) the same Decimate, but each
-               copy keeps its rig as an artist's LODs of a character must: its parent and
-               Armature modifier, the vertex groups Decimate carries (shape keys cannot
-               be kept: Blender applies no modifier to a mesh with keys). Our LODs keep
-               rig and keys, and the exporter's animation sampling pays for skinned copies
-               (docs/benchmarks.md): this is the like-for-like script;
+  * decimate, rigged   (assets an armature deforms or an animation moves) the same
+               Decimate, but each copy keeps its rig as an artist's LODs of a character
+               must: its parent, its own animation (actions, NLA tracks) and Armature
+               modifier, the vertex groups Decimate carries (shape keys cannot be kept:
+               Blender applies no modifier to a mesh with keys). Our LODs keep rig,
+               animation and keys, and the exporter's animation sampling pays for animated
+               copies (docs/benchmarks.md): this is the like-for-like script;
   * asset      LodJob on all the mesh objects, one asset (the default: the budget split
                over the parts by error, one switch set);
   * per part   LodJob with asset_budget off: every object its own chain, the same ratio.
@@ -36,6 +37,7 @@ import numpy as np
 import bpy
 
 from addon import asset as asset_set
+from addon.animation import moved_by_animation
 from addon import job as job_mod
 from addon import lod
 from addon.pure import measure
@@ -94,9 +96,9 @@ def export(path: Path) -> None:
 def decimate_script(objects, ratios, out: Path, keep_rig: bool = False) -> list:
     """Decimate on every part, per level; returns the level objects per level. (Made at
     rest: a copy of an evaluated skinned mesh has its deformation applied, and the
-    comparison is at rest.) ``keep_rig``: each copy keeps its parent and Armature
-    modifiers, the Decimate applied to the rest mesh (the Armature modifiers off while
-    the copy is made)."""
+    comparison is at rest.) ``keep_rig``: each copy keeps its parent, its own animation
+    and Armature modifiers (Object.copy), the Decimate applied to the rest mesh (the
+    Armature modifiers off while the copy is made)."""
     at_rest()
     levels = []
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -135,7 +137,10 @@ def decimate_rigged_script(objects, ratios, out: Path) -> list:
 
 
 def is_rigged(objects) -> bool:
-    return any(m.type == 'ARMATURE' for ob in objects for m in ob.modifiers)
+    """Whether an armature deforms a part or an animation moves one (a node-animated
+    character): its LODs must keep what moves it."""
+    return any(m.type == 'ARMATURE' for ob in objects for m in ob.modifiers) or \
+        any(moved_by_animation(ob) for ob in objects)
 
 
 def ours(objects, ratios, out: Path, per_part: bool) -> list:
@@ -148,11 +153,16 @@ def ours(objects, ratios, out: Path, per_part: bool) -> list:
             for k in range(len(ratios))]
 
 
-def at_rest() -> None:
-    """Every armature in its rest position: the exporter's animation sampling leaves the
-    scene posed at some frame; source and LODs are compared as modelled."""
+def at_rest(frame=None) -> None:
+    """Every armature in its rest position, and with ``frame`` the scene at that frame (the
+    one the asset was loaded at, where the static Decimate copies were made): the
+    exporter's animation sampling leaves the scene posed at some frame, and a
+    node-animated asset's parts (and our LODs, which keep their animation) moved with it;
+    source and LODs are compared as modelled."""
     for arm in bpy.data.armatures:
         arm.pose_position = 'REST'
+    if frame is not None:
+        bpy.context.scene.frame_set(frame)
     bpy.context.view_layer.update()
 
 
@@ -172,6 +182,7 @@ def run_asset(path: Path, ratios: list, repeat: int = 1) -> list:
         times = []
         for _ in range(repeat):
             objects = load(path)
+            loaded_at = bpy.context.scene.frame_current
             if way == "decimate, rigged" and not is_rigged(objects):
                 break
             with tempfile.TemporaryDirectory() as tmp:
@@ -186,7 +197,7 @@ def run_asset(path: Path, ratios: list, repeat: int = 1) -> list:
         if not times:
             continue
         seconds = min(times)
-        at_rest()
+        at_rest(loaded_at)
         source = world_triangles(objects)
         diagonal = float(np.linalg.norm(source[0].max(0) - source[0].min(0)))
         results[way] = (seconds, measure_levels(source, levels, diagonal), len(objects), len(source[1]))

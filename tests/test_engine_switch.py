@@ -108,3 +108,48 @@ def test_pausing_armature_deform_for_the_export_changes_no_byte_and_restores_the
     doc = glb_json(scene["paths"]["paused_glb"])
     assert len(doc["skins"]) == 1 and len(doc["animations"]) == 1
     assert sum("skin" in node for node in doc["nodes"]) == 3
+
+
+@pytest.fixture(scope="module")
+def walker(blender_user_dir, tmp_path_factory):
+    """tests/scenarios/addon_node_animation.py's node-animated character, written to a .glb."""
+    glb = tmp_path_factory.mktemp("node_animation") / "walker.glb"
+    out = run_scenario("addon_node_animation", {"glb": str(glb)}, user_dir=blender_user_dir)
+    return {**out, "glb": glb}
+
+
+def test_the_glb_animates_every_level_and_switches_each_part(walker):
+    """An asset an animation moves gets one MSFT_lod per part, each level's node where its
+    LOD0 is and moved by the same channels (gltf_lod._asset_levels): a level moved to a
+    root of its own would lose what moves it."""
+    gltf = glb_json(walker["glb"])
+    nodes = gltf["nodes"]
+    by_name = {n["name"]: i for i, n in enumerate(nodes)}
+    moved = {}
+    for animation in gltf["animations"]:
+        for channel in animation["channels"]:
+            target = channel["target"]
+            moved.setdefault(nodes[target["node"]]["name"], set()).add((animation["name"], target["path"]))
+    parent = {c: i for i, n in enumerate(nodes) for c in n.get("children", [])}
+    for source, names in walker["lods"].items():
+        lod0 = next(n for n in by_name if n in (source, f"{source}_LOD0"))
+        assert lod0 in moved or source == "Body", lod0  # Body moves with Root, not by its own channels
+        top = nodes[by_name[lod0]]
+        assert top["extensions"]["MSFT_lod"]["ids"] == [by_name[name] for name in names]
+        for name in names:
+            assert moved.get(name) == moved.get(lod0), name  # the same channels as its LOD0
+            assert parent.get(by_name[name]) == parent.get(by_name[lod0]), name  # where LOD0 is
+    assert not any(n["name"].endswith(("_LOD1", "_LOD2")) and "children" in n for n in nodes)
+    # Morph weights: every level's node plays its LOD0's samplers (gltf_lod._share_morph_channels),
+    # in each of the key's two actions; the LODs' own copies are back in Blender after.
+    for animation in gltf["animations"]:
+        weights = {nodes[c["target"]["node"]]["name"]: c["sampler"] for c in animation["channels"]
+                   if c["target"]["path"] == "weights"}
+        if weights:
+            assert set(weights) == {"Body_LOD0", "Body_LOD1", "Body_LOD2"} or set(weights) == {"Body", "Body_LOD1", "Body_LOD2"}
+            assert len(set(weights.values())) == 1, weights
+    assert sum(1 for a in gltf["animations"] if any(c["target"]["path"] == "weights" for c in a["channels"])) == 2
+    after = walker["key_animation_after"]["Body"]
+    assert all(level == after[0] for level in after[1:]) and after[0]["action"] == "Breathe"
+    report = validate(walker["glb"])
+    assert report["issues"]["numErrors"] == 0, issue_summary(report)

@@ -53,11 +53,14 @@ def asset_name(label: str) -> str:
 
 def name_chains(entries: list, lod_group: bool, asset: dict = None) -> None:
     """Rename each source "<name>_LOD0" and, with ``lod_group``, group for Unreal
-    (addon/lod_group.py): an asset without skinned parts as one LOD group, else each
-    chain; the entries get the new names (and ``asset`` its group's)."""
+    (addon/lod_group.py): an asset as one LOD group, else (and for an asset with a
+    skinned part or a part an animation moves, animation.moved_by_animation: gathered under a
+    level's Empty a part would lose its rig or its parent's motion) each chain; the
+    entries get the new names (and ``asset`` its group's)."""
     import bpy
 
     from .. import lod_group as naming
+    from ..animation import moved_by_animation
     from ..rig import armature_of
 
     chains = {}
@@ -68,7 +71,7 @@ def name_chains(entries: list, lod_group: bool, asset: dict = None) -> None:
         chains[base] = [source] + [bpy.data.objects[level["name"]] for level in entry["levels"][1:]]
     if not lod_group:
         return
-    if asset is not None and not any(armature_of(chain[0]) for chain in chains.values()):
+    if asset is not None and not any(armature_of(chain[0]) or moved_by_animation(chain[0]) for chain in chains.values()):
         levels = [[chain[k] for chain in chains.values() if len(chain) > k] for k in range(len(asset["levels"]) + 1)]
         group = naming.group_asset(bpy.context, asset["name"], levels).name
         asset["lod_group"] = group

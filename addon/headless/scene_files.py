@@ -198,6 +198,8 @@ def armature_deform_paused():
 def export_scene(path: Path) -> None:
     import bpy
 
+    from .. import animation
+
     ext = path.suffix.lower()
     fp = str(path)
     if ext == ".blend":
@@ -206,7 +208,9 @@ def export_scene(path: Path) -> None:
         # export_apply: the LODs were made from the evaluated meshes, so LOD0 must be
         # written evaluated too (the exporter leaves skinning to the glTF skin).
         # The hooks add MSFT_lod and the switch data (addon/gltf_lod.py).
-        with gltf_hooks_visible(), armature_deform_paused():
+        # The LODs' copies of their sources' shape-key animation are paused: gltf_lod
+        # gives their nodes the sources' channels (addon/animation.py says why).
+        with gltf_hooks_visible(), armature_deform_paused(), animation.key_copies_paused(bpy.context.scene):
             bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
                                       use_selection=False, export_apply=True)
     elif ext == ".fbx":
