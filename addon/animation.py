@@ -13,9 +13,10 @@ file's levels had no channels.
 from __future__ import annotations
 
 import contextlib
+import math
 
 from . import lod_objects
-from .lod_group import BASE_NAME_PROP
+from .lod_group import base_name
 
 # What of an ID's animation data its LOD gets as the source has it (copy_animation).
 # An NLA strip's timing goes last: setting its action range, scale or repeat moves its
@@ -50,12 +51,18 @@ def copy_animation(source, lod) -> None:
         new = dst.nla_tracks.new(prev=below)
         new.name, new.mute, new.lock = track.name, track.mute, track.lock
         solo = new if track.is_solo else solo
+        free = None  # a whole frame after every strip copied into the track so far
         for strip in track.strips:
-            copy = new.strips.new(strip.name, int(strip.frame_start), strip.action)
+            # strips.new takes a whole frame and refuses one a strip already covers (two
+            # strips that touch, a fractional start): each is made where the track is
+            # free, then given its source's exact frames (_STRIP_PROPS' *_raw).
+            start = math.ceil(strip.frame_start) if free is None else max(math.ceil(strip.frame_start), free)
+            copy = new.strips.new(strip.name, int(start), strip.action)
             if getattr(strip, "action_slot", None) is not None:
                 copy.action_slot = strip.action_slot
             for prop in _STRIP_PROPS:
                 setattr(copy, prop, getattr(strip, prop))
+            free = math.ceil(max(copy.frame_end, start)) + 1
         below = new
     if solo is not None:
         solo.is_solo = True
@@ -70,8 +77,8 @@ def signature(anim) -> tuple:
     slot = getattr(anim, "action_slot", None)
     return (anim.action, slot.identifier if slot is not None else None,
             tuple(getattr(anim, p) for p in _ANIMATION_PROPS),
-            tuple((t.name, t.mute, t.is_solo, tuple((s.action, round(s.frame_start_raw, 4), round(s.frame_end_raw, 4),
-                                                     tuple(getattr(s, p) for p in _STRIP_PROPS)) for s in t.strips))
+            tuple((t.name, t.mute, t.is_solo, tuple((s.action, tuple(getattr(s, p) for p in _STRIP_PROPS))
+                                                    for s in t.strips))
                   for t in anim.nla_tracks),
             tuple((d.data_path, d.array_index) for d in anim.drivers))
 
@@ -91,10 +98,7 @@ def moved_by_animation(obj) -> bool:
 def _key_copies(scene) -> list:
     """[(LOD mesh's shape keys, its source's)] for every LOD object in ``scene`` whose keys
     animate as a copy of its source's (copy_animation's, untouched since), each once."""
-    by_base = {}  # a source by its name, or a renamed LOD0 by its name before (lod_group.rename_as_lod0)
-    for ob in scene.objects:
-        base = ob.get(BASE_NAME_PROP)
-        by_base[base if isinstance(base, str) else ob.name] = ob
+    by_base = {base_name(ob): ob for ob in scene.objects}  # a renamed LOD0 by its name before
     pairs, seen = [], set()
     for ob in scene.objects:
         if ob.type != 'MESH' or lod_objects.SOURCE_PROP not in ob or ob.data.shape_keys is None:

@@ -17,7 +17,8 @@ def res(blender_user_dir):
 def test_every_lod_has_its_sources_animation_and_parent(res):
     assert set(res["lods"]) == {"Body", "Arm"} and all(len(names) == 2 for names in res["lods"].values())
     arm = res["animation"]["Arm"]
-    assert arm["action"] == "Swing" and arm["tracks"][0][0] == "Wave"  # the scene as built
+    assert arm["action"] == "Swing" and arm["tracks"][0][0] == "Wave"  # the scene as built,
+    assert [strip[1:] for strip in arm["tracks"][0][2]] == [[1.0, 12.5], [12.5, 23.5]]  # touching, between frames
     for source, names in res["lods"].items():
         for name in names:
             assert res["animation"][name] == res["animation"][source], name

@@ -5,7 +5,8 @@ asset through LodJob of the installed extension, then written by the command lin
 
 The asset: "Body", a UV sphere under an empty "Root" whose action walks it along x, and
 "Arm", an ico sphere parented to Body, swung by its own action "Swing" and holding a
-second action "Wave" in an NLA track (muted, as the glTF importer leaves the others).
+second action "Wave" in an NLA track (muted, as the glTF importer leaves the others),
+twice: the second strip touching the first and ending between frames.
 Body has a shape key "Bulge" (its top pushed out) whose value an action "Breathe" plays,
 with "Sigh" in an NLA track: morph weights, as RobotExpressive's faces have.
 """
@@ -65,7 +66,12 @@ def build() -> list:
     arm.animation_data.action = None
     track = arm.animation_data.nla_tracks.new()
     track.name = "Wave"
-    track.strips.new("Wave", 1, wave)
+    first = track.strips.new("Wave", 1, wave)
+    first.frame_end_raw = 12.5
+    # A second strip that starts between frames, where the first ends: strips.new takes
+    # a whole frame and would refuse frame 12 there (animation.copy_animation).
+    again = track.strips.new("Wave again", 20, wave)
+    again.frame_start_raw, again.frame_end_raw = 12.5, 23.5
     track.mute = True
     _keyed(arm, "rotation_euler", {1: (0.0, 0.0, 0.0), 6: (0.9, 0.0, 0.0), 12: (0.0, 0.0, 0.0)}, "Swing")
     bpy.context.scene.frame_start, bpy.context.scene.frame_end = 1, 12
