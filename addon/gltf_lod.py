@@ -31,7 +31,7 @@ An asset (addon/asset.py: its objects carry ``lqlod_asset``, its name) switches 
     An asset with a skinned part keeps one MSFT_lod per chain instead: its skins' joints
     live in LOD0's subtree, which a reader swapping whole subtrees would take away. So
     does an asset an animation moves (a node-animated character: its parts' channels,
-    which every level's node has, commit._copy_animation, are relative to their parents).
+    which every level's node has, animation.copy_animation, are relative to their parents).
 """
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ import numpy as np
 
 from . import lod_objects
 from .asset import ASSET_PROP  # on an asset's objects: its name
-from .lod_group import BASE_NAME_PROP
+from .lod_group import base_name
 
 EXTENSION_NAME = "MSFT_lod"
 COVERAGE_EXTRA = "MSFT_screencoverage"
@@ -60,8 +60,7 @@ def chain_key(ob):
         return None  # not a measured chain member (or a hand-edited one missing its numbers)
     if lod_objects.LEVEL_PROP in ob and lod_objects.SOURCE_PROP in ob:
         return ob[lod_objects.SOURCE_PROP], int(ob[lod_objects.LEVEL_PROP])
-    base = ob.get(BASE_NAME_PROP)
-    return (base if isinstance(base, str) else ob.name), 0
+    return base_name(ob), 0
 
 
 class glTF2ExportUserExtension:
@@ -84,7 +83,7 @@ class glTF2ExportUserExtension:
         if blender_object is None or not self._claim(export_settings):
             return
         if blender_object.type == 'MESH':  # every LOD and source, measured or not (_share_morph_channels)
-            self.mesh_nodes[_base_name(blender_object)] = gltf2_node
+            self.mesh_nodes[base_name(blender_object)] = gltf2_node
             source = blender_object.get(lod_objects.SOURCE_PROP)
             if isinstance(source, str):
                 self.lod_nodes.append((source, gltf2_node))
@@ -115,11 +114,11 @@ class glTF2ExportUserExtension:
         for base, asset in self.asset_of.items():
             for level, node in self.chains.get(base, {}).items():
                 members.setdefault(asset, {}).setdefault(level, []).append(node)
-        moved = _transform_animated(animations)
+        animated = _transform_animated(animations)
         for scene in scenes:
             tree = _Tree(scene)
             for asset, levels in members.items():
-                made = _asset_levels(tree, asset, levels, moved, export_settings)
+                made = _asset_levels(tree, asset, levels, animated, export_settings)
                 if made is not None:
                     self.assets[asset] = made
 
@@ -247,12 +246,6 @@ def _common_ancestor(tree: _Tree, nodes: list):
     return common
 
 
-def _base_name(ob) -> str:
-    """An object's name, or for a source renamed "<name>_LOD0" (lod_group.rename_as_lod0) its name before."""
-    base = ob.get(BASE_NAME_PROP)
-    return base if isinstance(base, str) else ob.name
-
-
 def _morph_targets(node) -> int:
     mesh = node.mesh
     if mesh is None or not getattr(mesh, "primitives", None):
@@ -305,10 +298,10 @@ def _transform_animated(animations) -> set:
     return moved
 
 
-def _asset_levels(tree: _Tree, asset: str, levels: dict, moved: set, export_settings):
+def _asset_levels(tree: _Tree, asset: str, levels: dict, animated: set, export_settings):
     """Make the asset's levels whole subtrees in ``tree`` (module docstring); returns
     (LOD0's node, [level nodes]) or None (not in this scene, a level missing, skinned, or
-    moved by an animation: ``moved``, the ids of animated nodes)."""
+    moved by an animation: ``animated``, the ids of animated nodes)."""
     count = max(levels) if levels else 0
     if count == 0 or sorted(levels) != list(range(count + 1)):
         return None
@@ -318,7 +311,7 @@ def _asset_levels(tree: _Tree, asset: str, levels: dict, moved: set, export_sett
         export_settings['log'].info(
             f"{EXTENSION_NAME}: the asset {asset!r} has skinned parts: one {EXTENSION_NAME} per part")
         return None
-    if any(id(above) in moved for nodes in levels.values() for node in nodes for above in tree.ancestors(node)):
+    if any(id(above) in animated for nodes in levels.values() for node in nodes for above in tree.ancestors(node)):
         # A level moved to a root of its own, in world space, would lose what moves its
         # parts: their own channels are relative to their parents, and an animated
         # ancestor would no longer be theirs. Each part keeps its place and its channels.

@@ -23,6 +23,13 @@ LOD_GROUP_SUFFIX = "_LODGroup"
 UNREAL_SCREEN_SIZE_PROP = "lqlod_unreal_screen_size_LOD"  # + level, on the LOD group
 
 
+def base_name(ob) -> str:
+    """An object's name, or for a source :func:`rename_as_lod0` renamed its name before
+    (what its LODs record as their source)."""
+    base = ob.get(BASE_NAME_PROP)
+    return base if isinstance(base, str) else ob.name
+
+
 def restore_base_names(scene) -> None:
     """Give every source that :func:`rename_as_lod0` renamed its name back."""
     for ob in scene.objects:
