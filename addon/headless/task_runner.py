@@ -39,7 +39,7 @@ def run(executor: concurrent.futures.Executor, assets: list, *, retries: int = 2
         submit(i)
     entries = [None] * len(assets)
     while pending:
-        future = finished.get()  # Ctrl-C interrupts this wait
+        future = _next(finished)
         i = pending.pop(future)
         attempts[i] += 1
         error = _failure(future)
@@ -50,6 +50,22 @@ def run(executor: concurrent.futures.Executor, assets: list, *, retries: int = 2
         if on_result is not None:
             on_result(entries[i])
     return entries
+
+
+# How often the wait for the next finished task wakes (seconds), only to let a Ctrl-C in.
+WAKE_SECONDS = 0.25
+
+
+def _next(finished: queue.Queue) -> concurrent.futures.Future:
+    """The next future to end. The wait wakes every WAKE_SECONDS: the kernel may deliver
+    Ctrl-C's SIGINT to any of the process's threads, and Python raises it in the main
+    thread only when that thread next runs. A wait with no timeout then lasted until a
+    running child ended (a CI run hung 90 s so; tests/test_batch.py sends it to a thread)."""
+    while True:
+        try:
+            return finished.get(timeout=WAKE_SECONDS)
+        except queue.Empty:
+            pass
 
 
 def _failure(future: concurrent.futures.Future) -> Optional[BaseException]:
