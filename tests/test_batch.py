@@ -81,7 +81,10 @@ def test_a_stopped_batch_leaves_no_child_running(tmp_path):
 
 
 INTERRUPTED_BATCH = """\
-import sys
+import signal, sys
+# Started from a background job (nohup, or & where the shell has no job control) the
+# process inherits SIGINT ignored, and Python leaves it so: Ctrl-C as a terminal sends it.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.path.insert(0, {root!r})
 from addon.headless import asset_task, executors, task_runner
 assets = [asset_task.Asset(p, p, [sys.executable, {child!r}, "sleep:" + p]) for p in sys.argv[1:]]
@@ -92,7 +95,7 @@ with executors.open_executor(2) as (executor, _):
 
 # The same batch, but the Ctrl-C reaches one of its other threads: the kernel may deliver
 # a process's SIGINT to any thread, and Python raises it in the main thread only when that
-# thread next runs (a CI run once hung 90 s so).
+# thread next runs.
 INTERRUPTED_IN_A_THREAD = """\
 import os, signal, sys, threading, time
 pids = sys.argv[1:]

@@ -60,7 +60,7 @@ def _next(finished: queue.Queue) -> concurrent.futures.Future:
     """The next future to end. The wait wakes every WAKE_SECONDS: the kernel may deliver
     Ctrl-C's SIGINT to any of the process's threads, and Python raises it in the main
     thread only when that thread next runs. A wait with no timeout then lasted until a
-    running child ended (a CI run hung 90 s so; tests/test_batch.py sends it to a thread)."""
+    running child ended (tests/test_batch.py sends the signal to another thread)."""
     while True:
         try:
             return finished.get(timeout=WAKE_SECONDS)
