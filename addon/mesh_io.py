@@ -26,8 +26,9 @@ def _get(collection, prop, count, dtype, width=1):
     return out.reshape(-1, width) if width > 1 else out
 
 
-def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
-    """Everything :class:`MeshData` holds, read from ``mesh`` (not modified)."""
+def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", user=None) -> MeshData:
+    """Everything :class:`MeshData` holds, read from ``mesh`` (not modified); ``user``: an
+    object whose data it is, or None (vertex_groups.group_names)."""
     n = len(mesh.vertices)
     mesh.calc_loop_triangles()
     m = len(mesh.loop_triangles)
@@ -79,8 +80,9 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto") -> MeshData:
     seam_edges = edge_verts[seam]
     seam_region = edge_util.face_regions(tris, seam_edges) if len(seam_edges) else None
 
-    names = vertex_groups.group_names(mesh)
-    weights = vertex_groups.read_weights(mesh, names, method=group_method) if names else np.zeros((n, 0))
+    names = vertex_groups.group_names(mesh, user)
+    weights = vertex_groups.read_weights(mesh, names, method=group_method, all_names=names) \
+        if names else np.zeros((n, 0))
 
     return MeshData(
         custom_normals=custom_normals,
@@ -185,7 +187,7 @@ def read_object(obj: bpy.types.Object, depsgraph, use_modifiers: bool = True,
     """
     warnings = []
     if not use_modifiers or not has_geometry_modifiers(obj):
-        data = read_mesh(obj.data, group_method=group_method)
+        data = read_mesh(obj.data, group_method=group_method, user=obj)
         _base_shape_keys(obj.data, data)
         return data, warnings
 

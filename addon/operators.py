@@ -323,8 +323,9 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
         ob = context.active_object
 
         def skin_importance():
-            names = vertex_groups.group_names(ob.data)
-            return object_importance.skin_importance_of(ob, names, vertex_groups.read_weights(ob.data, names)), None
+            names = vertex_groups.group_names(ob.data, ob)
+            weights = vertex_groups.read_weights(ob.data, names, all_names=names)
+            return object_importance.skin_importance_of(ob, names, weights), None
 
         written = self.write_group(ob, IMPORTANCE_GROUP, skin_importance)
         if written is None:

@@ -56,6 +56,21 @@ def members(ob) -> set:
     return {(v.index, names[g.group]) for v in ob.data.vertices for g in v.groups}
 
 
+class _NoNewObjects:
+    """Stands in for ``bpy`` inside the module under test: making an object fails (it
+    would tag the depsgraph relations, which the next evaluation rebuilds for every
+    object of the scene)."""
+
+    class _Data:
+        def __getattr__(self, name):
+            if name == "objects":
+                raise AssertionError("an object was made")
+            return getattr(bpy.data, name)
+
+    def __init__(self):
+        self.data, self.context, self.types, self.ops = self._Data(), bpy.context, bpy.types, bpy.ops
+
+
 class _NoOperators:
     """Stands in for ``bpy`` inside the module under test: any bpy.ops access fails."""
 
@@ -170,5 +185,16 @@ def run() -> dict:
                         "nodes_vs_python": float(np.abs(nodes - python).max()), "nonzero": int(np.count_nonzero(python)),
                         "datablocks_same": datablocks() == before, "leftovers": leftovers([ob])}
     result["reads"] = reads
+
+    # An object's mesh is read through the object's own group names: no throw-away object.
+    from addon import mesh_io
+    vg.bpy = _NoNewObjects()
+    try:
+        data, _ = mesh_io.read_object(new_ob, None, use_modifiers=False)
+        result["read_object_without_new_objects"] = data.group_names == new_ob.vertex_groups.keys()
+    except AssertionError as ex:
+        result["read_object_without_new_objects"] = str(ex)
+    finally:
+        vg.bpy = real_bpy
     result["nodes_min_vertices"] = vg.NODES_MIN_VERTICES
     return result
