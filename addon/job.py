@@ -74,7 +74,7 @@ def _set_part_samples(inputs: list, matrices: list) -> None:
     triangles = sum(len(i.data.faces) * len(placed) for i, placed in zip(inputs, matrices))
     for lod_input, area in zip(inputs, drawn):
         share = float(area / total) if total > 0 else 1.0 / len(inputs)
-        lod_input.part_samples = deviation_search.part_samples(share, triangles)
+        lod_input.part_samples = deviation_search.part_samples(share, triangles, len(lod_input.data.faces))
 
 
 class ObjectObserver:

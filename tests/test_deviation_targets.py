@@ -153,3 +153,20 @@ def test_each_deviation_keeps_the_lean_run_where_it_saves_a_tenth():
     # Still each coarser than the one before: a lean level no coarser is left out.
     kept = dt.fewest_each([_found(1.0, 900), _found(2.0, 950)], [_found(1.0, 400), _found(2.0, None)])  # noqa
     assert len(kept[0].level.faces) == 400 and kept[1].level is None
+
+
+def test_a_part_of_an_asset_is_measured_by_its_area_share_and_its_size():
+    """deviation_search.part_samples (issue 32 §2): a part gets its share of the asset's
+    samples, at least one a triangle up to ASSET_PART_SAMPLES_MIN, so that an asset of
+    many small parts is measured about as much as the same surface as one mesh."""
+    from addon.pure import deviation_search as ds
+
+    floor = ds.ASSET_PART_SAMPLES_MIN
+    asset = ds.report_samples(96_000)
+    assert ds.part_samples(0.5, 96_000, 48_000) == int(np.ceil(0.5 * asset))  # its share
+    assert ds.part_samples(1e-4, 96_000, 320) == 320  # a small part: one a triangle
+    assert ds.part_samples(1e-4, 96_000, 10 * floor) == floor  # a large one with little area
+    assert ds.part_samples(0.0, 96_000, 0) == 1
+    # 300 equal parts: together about the asset's own count, not 300 x the floor.
+    parts = [ds.part_samples(1 / 300, 96_000, 320) for _ in range(300)]
+    assert sum(parts) <= 300 * 320 and sum(parts) < 300 * floor / 2

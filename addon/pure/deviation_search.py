@@ -37,7 +37,10 @@ DEVIATION_SAMPLES_MIN = 8_000
 # asset were measured as one surface (report_samples of all it draws), with at least this
 # many (and never more than report_samples gives a mesh of its size): an engine's hundred
 # bolts each paid 8,000 samples a side a level, seven times what the block they sit on got
-# per unit of area, and measuring took three times the simplification.
+# per unit of area, and measuring took three times the simplification. A part of fewer
+# triangles gets one a triangle at least (its vertices are queried on top): with the
+# floor per part, a 300-part character of 96,000 triangles was measured with 1.8 million
+# queries where the same surface as one mesh takes 0.4 million.
 ASSET_PART_SAMPLES_MIN = 1_000
 
 
@@ -48,10 +51,13 @@ def report_samples(triangles: int, part_samples: Optional[int] = None) -> int:
     return own if part_samples is None else min(own, int(part_samples))
 
 
-def part_samples(area_share: float, asset_triangles: int) -> int:
-    """The area samples a side of a part of an asset: its share of the asset's area (0 to
-    1) of what the asset would get as one surface of ``asset_triangles`` triangles."""
-    return int(max(ASSET_PART_SAMPLES_MIN, np.ceil(report_samples(asset_triangles) * area_share)))
+def part_samples(area_share: float, asset_triangles: int, part_triangles: int) -> int:
+    """The area samples a side of a part of ``part_triangles`` triangles in an asset: its
+    share of the asset's area (0 to 1) of what the asset would get as one surface of
+    ``asset_triangles`` triangles, at least ASSET_PART_SAMPLES_MIN or one a triangle,
+    whichever is fewer."""
+    floor = min(ASSET_PART_SAMPLES_MIN, max(int(part_triangles), 1))
+    return int(max(floor, np.ceil(report_samples(asset_triangles) * area_share)))
 
 
 def deviation_report(data, level, normals=None, part_samples: Optional[int] = None) -> dict:
