@@ -87,7 +87,8 @@ def array(collection, prop: str, width: int, dtype=np.float32):
 def describe_objects() -> dict:
     """{name: what it is} for every object of the scene: type and parent; for an Empty its
     "fbx_type"; for a mesh its triangles and vertices, a hash of its geometry, its vertex
-    groups, the armature that deforms it, its number of UV maps and its "lod_level"."""
+    groups, the armature that deforms it, its number of UV maps and its "lod_level"; with
+    a modifier other than Armature, its "evaluated_triangles"."""
     objects = {}
     for ob in bpy.context.scene.objects:
         entry = {"type": ob.type, "parent": ob.parent.name if ob.parent else None}
@@ -105,6 +106,11 @@ def describe_objects() -> dict:
                 armature=next((md.object.name for md in ob.modifiers
                                if md.type == 'ARMATURE' and md.object is not None), None),
                 uv_maps=len(me.uv_layers), lod_level=ob.get("lod_level"))
+            if any(md.type != 'ARMATURE' for md in ob.modifiers):
+                # (as the viewport evaluates it: what a LOD of it was made from)
+                evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+                evaluated.calc_loop_triangles()
+                entry["evaluated_triangles"] = len(evaluated.loop_triangles)
         objects[ob.name] = entry
     return objects
 
