@@ -53,7 +53,7 @@ def paint(context, lod_ob, use_modifiers: bool = True) -> float:
     source = source_of(lod_ob)
     _, depsgraph = mesh_io.scene_and_depsgraph(context)
     data, _ = mesh_io.read_object(source, depsgraph, use_modifiers)
-    level = mesh_io.read_mesh(lod_ob.data)
+    level = mesh_io.read_mesh(lod_ob.data, group_names=lod_ob.vertex_groups.keys())
     report = deviation_search.deviation_report(data, level)
     distances, colors, scale = level_deviation.heat_layer(level, report["sampled"])
     write_heat(lod_ob.data, distances, colors, scale)
