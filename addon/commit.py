@@ -168,8 +168,9 @@ def _remove_earlier(built: list) -> None:
     of them shared is gone (no users left) when the new shared mesh takes its name."""
     keep = {ob.as_pointer() for _, _, objects, _ in built for ob in objects}
     keep |= {source.as_pointer() for source, _, _, _ in built}  # never remove an object being written for
+    earlier = lod_objects.lods_by_source()
     for source, _, _, _ in built:
-        for old in lod_objects.previous_lods(source.name):
+        for old in earlier.get(source.name, []):
             if old.as_pointer() not in keep:
                 _replace_lod(old)
 

@@ -137,10 +137,11 @@ class glTF2ExportUserExtension:
             top.extras[COVERAGE_EXTRA] = coverage
             written += 1
         in_assets = {base for base, asset in self.asset_of.items() if asset in self.assets}
+        lods = lod_objects.lods_by_source()
         for base, nodes in self.chains.items():
             if base in in_assets:
                 continue  # its asset switches as a whole
-            n_lods = len(lod_objects.previous_lods(base))
+            n_lods = len(lods.get(base, []))
             if n_lods == 0 or sorted(nodes) != list(range(n_lods + 1)) or \
                     any(id(node) not in index for node in nodes.values()):
                 export_settings['log'].warning(

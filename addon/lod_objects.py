@@ -31,7 +31,18 @@ def set_switch_props(ob, numbers) -> None:
 
 def previous_lods(source_name: str) -> list:
     """LOD objects made from the object called ``source_name`` by an earlier run."""
-    return [ob for ob in bpy.data.objects if ob.get(SOURCE_PROP) == source_name and LEVEL_PROP in ob]
+    return lods_by_source().get(source_name, [])
+
+
+def lods_by_source() -> dict:
+    """{source object's name: the LOD objects made from it}, every LOD object of the file
+    in one scan (a scan per source was quadratic: 600 parts, 0.6 s)."""
+    found = {}
+    for ob in bpy.data.objects:
+        source = ob.get(SOURCE_PROP)
+        if source is not None and LEVEL_PROP in ob:
+            found.setdefault(source, []).append(ob)
+    return found
 
 
 def in_scene(collection, scene) -> bool:
