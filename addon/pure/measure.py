@@ -80,6 +80,21 @@ _PILOT_QUANTILE = 0.99
 _RADIUS_FACTOR = 2.0
 
 
+class _Deferred:
+    """A value Sampled computes the first time it is read: the closest points'
+    barycentric coordinates, which only the heat map and painted limits read (and the
+    shading normals, which compute theirs at once). Computing all four sets for every
+    measurement cost more than a third of the queries' own time on a 600-part asset."""
+
+    __slots__ = ("compute", "args")
+
+    def __init__(self, compute, *args):
+        self.compute, self.args = compute, args
+
+    def __call__(self):
+        return self.compute(*self.args)
+
+
 @dataclass
 class Sampled:
     """What surface_deviation(keep_samples=True) measured point by point, for reports that
@@ -93,6 +108,8 @@ class Sampled:
     point is on (``src_nearest`` (k,)) and that point's coordinates there
     (``src_nearest_bary`` (k, 3)); the same for dst's samples (``dst_nearest``, on src)
     and for both surfaces' vertices (``*_vertex_nearest``, ``*_vertex_nearest_bary``).
+    Read the fields as attributes: the barycentric coordinates of closest points are
+    computed on first reading (_Deferred), so ``vars()`` may show them unevaluated.
     """
 
     src_triangle: np.ndarray
@@ -113,6 +130,13 @@ class Sampled:
     src_vertex_nearest_bary: Optional[np.ndarray] = None
     dst_vertex_nearest: Optional[np.ndarray] = None
     dst_vertex_nearest_bary: Optional[np.ndarray] = None
+
+    def __getattribute__(self, name):
+        value = object.__getattribute__(self, name)
+        if type(value) is _Deferred:  # (computed once, on first reading)
+            value = value()
+            object.__setattr__(self, name, value)
+        return value
 
 
 def _as_mesh(vertices, faces, what: str):
@@ -343,8 +367,11 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     angles = None
     if wanted:
         v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
-        at = _closest_bary(samples, nearest, v_b, f_b, at)
-        angles = None if shading is None else _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
+        if shading is not None:
+            at = _closest_bary(samples, nearest, v_b, f_b, at)
+            angles = _normal_angles(tri, bary, nearest, at, shading[0], shading[3])
+        else:
+            at = _Deferred(_closest_bary, samples, nearest, v_b, f_b, at)
         if keep is not None and keep[0] is not None:
             keep[1].update(nearest=nearest, nearest_bary=at)
     if keep is not None:
@@ -354,7 +381,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
         tree_b, verts, wanted, *(_on_same_vertices(verts, *b) if b is not None else (None, None, None)))
     if wanted:
         keep[1].update(vertex_nearest=vertex_nearest,
-                       vertex_nearest_bary=_closest_bary(verts, vertex_nearest, *keep[0], vertex_at))
+                       vertex_nearest_bary=_Deferred(_closest_bary, verts, vertex_nearest, *keep[0], vertex_at))
     if keep is not None:
         keep[1].update(vertices=used, vertex_distance=d_verts)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))

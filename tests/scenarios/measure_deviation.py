@@ -1,6 +1,8 @@
 """addon/pure/measure.py (the checkout's copy) on meshes the test wrote to an .npz file: known
 distances and normal angles, the mesh report, and what invalid input raises (tests/test_measure.py checks
 what this returns). Runs without the extension installed."""
+import dataclasses
+
 import numpy as np
 
 import core
@@ -63,7 +65,9 @@ def run(meshes_npz: str) -> dict:
     # without a search (core.geometry.same_triangles); every point comes back for the test
     # to check against a brute-force distance.
     kept = deviation("plane", "step", n_samples=3000, keep_samples=True)["sampled"]
-    result["step_points"] = {k: np.asarray(v).tolist() for k, v in vars(kept).items() if v is not None}
+    # (read as attributes: the closest points' coordinates are computed on first reading)
+    fields = [f.name for f in dataclasses.fields(kept)]
+    result["step_points"] = {k: np.asarray(getattr(kept, k)).tolist() for k in fields if getattr(kept, k) is not None}
     unkept = deviation("plane", "step", n_samples=10, keep_samples=True)["sampled"]
     invalid_calls = {
         "normals_shape": lambda: normals("plane", "coarse_plane", up[:-1], coarse_up),
