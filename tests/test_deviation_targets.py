@@ -158,7 +158,7 @@ def test_each_deviation_keeps_the_lean_run_where_it_saves_a_tenth():
 def test_a_part_of_an_asset_is_measured_by_its_area_share_and_its_size():
     """deviation_search.part_samples (issue 32 §2): a part gets its share of the asset's
     samples, at least one a triangle up to ASSET_PART_SAMPLES_MIN, so that an asset of
-    many small parts is measured about as much as the same surface as one mesh."""
+    many small parts is not measured with the floor once per part."""
     from addon.pure import deviation_search as ds
 
     floor = ds.ASSET_PART_SAMPLES_MIN

@@ -57,9 +57,9 @@ def members(ob) -> set:
 
 
 class _NoNewObjects:
-    """Stands in for ``bpy`` inside the module under test: making an object fails (it
-    would tag the depsgraph relations, which the next evaluation rebuilds for every
-    object of the scene)."""
+    """Stands in for ``bpy`` inside the modules under test: any use of ``bpy.data.objects``
+    or ``bpy.data.meshes`` fails (making and removing an object or a mesh would tag the
+    depsgraph relations, which the next evaluation rebuilds for every object of the scene)."""
 
     class _Data:
         def __getattr__(self, name):
