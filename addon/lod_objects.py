@@ -29,11 +29,6 @@ def set_switch_props(ob, numbers) -> None:
         ob[switch_prop(key)] = float(value)
 
 
-def previous_lods(source_name: str) -> list:
-    """LOD objects made from the object called ``source_name`` by an earlier run."""
-    return lods_by_source().get(source_name, [])
-
-
 def lods_by_source() -> dict:
     """{source object's name: the LOD objects made from it}, every LOD object of the file
     in one scan (a scan per source was quadratic: 600 parts, 0.6 s)."""
