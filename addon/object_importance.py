@@ -45,7 +45,7 @@ NO_KEYS_NOTE = "no importance (no shape keys)"
 def shape_key_importance_of(obj) -> np.ndarray:
     """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
     from its shape keys (importance.shape_key_importance); LodError when it has none."""
-    names = vertex_groups.group_names(obj.data, obj)
+    names = obj.vertex_groups.keys()
     weights = vertex_groups.read_weights(obj.data, names, all_names=names) if names else None
     basis_name, use_relative, keys = mesh_io.read_shape_keys(obj.data)
     if not keys:
@@ -90,6 +90,6 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     if settings.importance_source == 'SHAPE_KEYS':
         g = shape_key_importance_of(obj)
     else:
-        names = vertex_groups.group_names(obj.data, obj)
+        names = obj.vertex_groups.keys()
         g = importance_of(obj, settings, names, vertex_groups.read_weights(obj.data, names, all_names=names))
     return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= imp.PAINTED))

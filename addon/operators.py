@@ -323,7 +323,7 @@ class OBJECT_OT_line_quadric_lod_from_armature(_ImportanceOperator, bpy.types.Op
         ob = context.active_object
 
         def skin_importance():
-            names = vertex_groups.group_names(ob.data, ob)
+            names = ob.vertex_groups.keys()
             weights = vertex_groups.read_weights(ob.data, names, all_names=names)
             return object_importance.skin_importance_of(ob, names, weights), None
 

@@ -124,15 +124,13 @@ def _read_via_python(mesh, names, all_names) -> np.ndarray:
     return out
 
 
-def group_names(mesh, user=None) -> list:
-    """The vertex-group names of ``mesh`` in index order; ``user``: an object whose data
-    is ``mesh``, or None."""
+def group_names(mesh) -> list:
+    """The vertex-group names of ``mesh`` in index order. A caller with an object using
+    the mesh reads them from it (``ob.vertex_groups.keys()``) instead."""
     # Since Blender 3.0 the names are stored on the mesh and any object using it lists
     # them. Without one, a throw-away object, never linked; but making and removing it
     # tags the depsgraph relations, and the next evaluated depsgraph rebuilds them for
     # every object in the scene: 14-18 ms with 300 objects, once per part read.
-    if user is not None and user.data == mesh:
-        return [g.name for g in user.vertex_groups]
     tmp = bpy.data.objects.new(_TMP_PREFIX + "names", mesh)
     try:
         return [g.name for g in tmp.vertex_groups]
