@@ -56,7 +56,8 @@ RULES = (
     Rule("sliver", "no face becomes a sliver (quality below min_quality), but where its "
                    "three corners lie on open borders, and while a sliver-rich input's LOD has "
                    "fewer slivers than the input's share (core.slivers)", True),
-    Rule("seams", "seam vertices slide only along their seam; seam ends stay put", True),
+    Rule("seams", "seam vertices (whose own corner values change, core.wedges.value_changes) slide "
+                  "only along their seam; seam ends and junctions stay put", True),
     Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
                             "boundary, stay put (feature_angle), but those that crowd a LOD "
                             "and are smaller than its error (core.engine._release_small_corners)", True),

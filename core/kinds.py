@@ -11,11 +11,13 @@ Kinds, least constrained first:
   FREE     an interior vertex of a manifold surface
   BORDER   on an open boundary: free, but an inner edge joining two border vertices
            never collapses (``EDGE_RULES``), or the boundary would pinch
-  SEAM     on a UV or colour seam: slides only along its seam (rule seams, core.guards)
+  SEAM     on a UV or colour seam (its own value changes across two of its edges,
+           core.wedges.value_changes): slides only along its seam (rule seams, core.guards)
   COMPLEX  pinched between fans, or on an edge of three or more faces: it holds parts of
            the surface together that an edge collapse cannot keep apart, so it never
            moves; free vertices may merge into it
-  LOCKED   locked by the artist, a feature corner, or a seam's end: never moves
+  LOCKED   locked by the artist, a feature corner, or a seam's end or junction (its
+           value changes across one, or three or more, of its edges): never moves
 """
 from __future__ import annotations
 

@@ -48,16 +48,29 @@ class Wedges:
             uv_columns=[layout[name][0] for name in uv_names],
         )
 
-    def seam_edges(self, conn) -> np.ndarray:
-        """(k,) bool: interior edges whose two faces see different wedges at an end."""
+    def value_changes(self, faces, conn) -> np.ndarray:
+        """(k, 2) bool: for each interior edge of ``conn`` and each of its ends (in
+        ``conn.edges``' order), whether its two faces see different wedges there. An edge
+        with a change at either end is a seam edge; a vertex is on a seam where the value
+        changes at it: across two of its edges along a seam, one or three or more at an
+        end or a junction. A vertex whose corners all share one wedge has none, though
+        seam edges end at it (the ring around a pole whose triangles each have their own
+        UV, the tip where a UV cut ends): its values are continuous around it."""
         cw = self.corner_wedge.ravel()
+        flat = faces.ravel()
+        first = conn.edges[:, 0]
         he0 = conn.edge_he0
         inner = conn.edge_he1 >= 0
         he1 = np.where(inner, conn.edge_he1, he0)
-        a0, b0 = cw[he0], cw[topology.next_corner(he0)]
-        a1, b1 = cw[he1], cw[topology.next_corner(he1)]
-        same = (np.minimum(a0, b0) == np.minimum(a1, b1)) & (np.maximum(a0, b0) == np.maximum(a1, b1))
-        return inner & ~same
+
+        def at_ends(he):  # the wedges a face sees at the edge's first and second vertex
+            here, there = cw[he], cw[topology.next_corner(he)]
+            starts = flat[he] == first
+            return np.where(starts, here, there), np.where(starts, there, here)
+
+        first0, second0 = at_ends(he0)
+        first1, second1 = at_ends(he1)
+        return np.stack([first0 != first1, second0 != second1], axis=1) & inner[:, None]
 
     def _pairs(self, faces, conn, edges, keep, remove, t):
         """Per side of each collapsed edge: (kept wedge, removed wedge, t)."""

@@ -97,6 +97,28 @@ def seam_edges(F, UV, tol=0.0):
     return key[pair[differ]]
 
 
+def uv_change_counts(F, UV, n=None, tol=0.0):
+    """(n,) for each vertex, the interior edges at it across which its own corner UV
+    differs between the edge's two faces: 0 where the vertex has one UV (also at the end
+    of a seam edge whose UVs differ only at the other end: a cut's tip, the ring around a
+    pole whose triangles each have their own UV), 2 along a seam, else an end or a
+    junction of seams."""
+    n = int(F.max()) + 1 if n is None else n
+    he = directed_edges(F)
+    uv_a = np.concatenate([UV[:, 0], UV[:, 1], UV[:, 2]])
+    uv_b = np.concatenate([UV[:, 1], UV[:, 2], UV[:, 0]])
+    lo_first = he[:, 0] < he[:, 1]
+    key = np.sort(he, axis=1)
+    uv_lo = np.where(lo_first[:, None], uv_a, uv_b)
+    uv_hi = np.where(lo_first[:, None], uv_b, uv_a)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    key, uv_lo, uv_hi = key[order], uv_lo[order], uv_hi[order]
+    pair = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))
+    at_lo = np.abs(uv_lo[pair] - uv_lo[pair + 1]).max(1) > tol
+    at_hi = np.abs(uv_hi[pair] - uv_hi[pair + 1]).max(1) > tol
+    return np.bincount(np.r_[key[pair[at_lo], 0], key[pair[at_hi], 1]], minlength=n)
+
+
 def uv_islands(F, UV):
     """Island label (0..k-1) of each face: faces joined across edges that are not seams."""
     he = directed_edges(F)

@@ -115,7 +115,7 @@ def run() -> dict:
     return {
         "asset": run_job(ratios=(0.5, 0.25, 0.125)),
         "asset_split": split_by_curves(ratios=(0.5, 0.25, 0.125)),
-        "far_split": split_by_curves(ratios=(0.5, 0.05, 0.015), measure_deviation=False),
+        "far_split": split_by_curves(ratios=FAR, measure_deviation=False),
         "asset_unmeasured": run_job(ratios=(0.5, 0.25, 0.125), measure_deviation=False),
         "per_part": run_job(ratios=(0.5, 0.25, 0.125), asset_budget=False),
         "deviation": run_job(max_deviations=((1.0, True), (4.0, True))),
