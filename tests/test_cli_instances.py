@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from bpy_harness import REPO_ROOT, isolated_blender_env
+from bpy_harness import REPO_ROOT, isolated_blender_env, run_scenario
 from gltf_tools import glb_json
 from test_addon_instances import res, work  # noqa: F401  (the scenario and the .blend it saves)
 
@@ -75,3 +75,68 @@ def test_cli_report_progress_and_table_count_each_mesh_once(cli):
     for name in ("A", "B", "C"):
         for k in (1, 2):
             assert (seconds[f"{name}_LOD{k}"] == "shared") == (name != leader), seconds
+
+
+# ------------------------------------------------------------------ collection instances
+
+@pytest.fixture(scope="module")
+def collection_cli(tmp_path_factory):
+    """The command line on tests/scenarios/collection_instances.py's .blend."""
+    work = tmp_path_factory.mktemp("collection_instances")
+    made = run_scenario("collection_instances", {"blend_out": str(work / "bolts.blend")}, user_dir=work / "user",
+                        install=False, timeout=600)
+    out, report = work / "out", work / "report.json"
+    env = {**os.environ, **isolated_blender_env(work / "user")}
+    proc = subprocess.run([sys.executable, str(REPO_ROOT), "--input", str(work / "bolts.blend"),
+                           "--ratios", "0.5", "0.25", "--output-dir", str(out), "--format", "glb",
+                           "--report", str(report)],
+                          capture_output=True, text=True, cwd=work, env=env, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return {"glb": glb_json(out / "bolts_LODs.glb"), "report": json.loads(report.read_text()), **made}
+
+
+def test_collection_instances_become_objects_that_share_the_bolts_lods(collection_cli):
+    """Each instance of the bolt's collection is made an object of its own sharing the
+    bolt's mesh: the bolt is simplified once, and the asset's budget counts it three
+    times. The bolt itself, in an excluded collection, draws nothing and gets no LODs."""
+    entry = collection_cli["report"]["files"][0]
+    objects = {o["object"]: o for o in entry["objects"]}
+    copies = sorted(name for name in objects if name != "Base")
+    assert len(copies) == 3 and "Bolt" not in objects, sorted(objects)
+    assert len({tuple(lv["mesh"] for lv in objects[name]["levels"]) for name in copies}) == 1
+    assert sum(1 for name in copies if objects[name].get("shares") is None) == 1
+    assert sum("made real" in w for w in entry["warnings"]) == 3, entry["warnings"]
+    assert any(w.startswith('"Bolt" skipped: not in the view layer') for w in entry["warnings"])
+    drawn = objects["Base"]["source_triangles"] + 3 * collection_cli["bolt_triangles"]
+    for level, ratio in zip(entry["asset"]["levels"], (0.5, 0.25)):
+        assert abs(level["triangles"] - ratio * drawn) <= max(2, 0.01 * ratio * drawn), (level, drawn)
+
+
+def test_each_instance_switches_with_the_asset_and_shows_one_level(collection_cli):
+    """In the .glb every instance of the bolt is in each level's subtree once, with that
+    level's mesh, and nowhere else: instanced, every instance showed all its levels at
+    once, outside the asset's MSFT_lod."""
+    gltf = collection_cli["glb"]
+    nodes = gltf["nodes"]
+    tops = [n for n in nodes if "MSFT_lod" in n.get("extensions", {})]
+    assert len(tops) == 1, [n["name"] for n in tops]
+    roots = [nodes.index(tops[0])] + tops[0]["extensions"]["MSFT_lod"]["ids"]
+
+    def meshes_under(i):
+        node = nodes[i]
+        found = [gltf["meshes"][node["mesh"]]["name"]] if "mesh" in node else []
+        for c in node.get("children", []):
+            found += meshes_under(c)
+        return found
+
+    objects = collection_cli["report"]["files"][0]["objects"]
+    bolt_meshes = next(o for o in objects if o["object"] != "Base")["levels"]
+    bolt_meshes = [lv["mesh"] for lv in bolt_meshes]  # the shared LOD0, LOD1, LOD2 meshes
+    assert len(set(bolt_meshes)) == 3
+    for k, root in enumerate(roots):
+        level = meshes_under(root)
+        assert level.count(bolt_meshes[k]) == 3 and len(level) == 4, (k, level, bolt_meshes)
+    # No bolt LOD beyond LOD0 is drawn outside its level's subtree.
+    for lod_mesh in bolt_meshes[1:]:
+        users = [n["name"] for n in nodes if "mesh" in n and gltf["meshes"][n["mesh"]]["name"] == lod_mesh]
+        assert len(users) == 3, users

@@ -101,7 +101,8 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         scene_files.load(job, args.debug)
         scene = bpy.context.scene
         lod_group.restore_base_names(scene)
-        objects, skipped = sources.select_objects(scene, args.objects)
+        entry["warnings"] += sources.make_instances_real(scene, bpy.context.view_layer)
+        objects, skipped = sources.select_objects(scene, args.objects, bpy.context.view_layer)
         entry["warnings"] += skipped
         entries, asset = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group, asset)

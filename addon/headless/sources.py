@@ -12,12 +12,57 @@ from .. import rig
 from .errors import InputError
 
 
-def select_objects(scene, names) -> tuple:
-    """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD."""
+# Collection instances inside instanced collections are made real too, this many deep.
+INSTANCE_DEPTH = 8
+
+
+def make_instances_real(scene, view_layer) -> list:
+    """Every collection instance the view layer draws becomes objects: for each empty
+    that instances a collection, a copy of every object of that collection (sharing its
+    mesh, modifiers and materials, as Alt+D does) parented to the empty where the
+    instance draws it; the empty then instances nothing. Returns a note per empty.
+
+    Instanced, a part and its LODs are drawn by every empty at once: each instance of a
+    bolt showed all four levels on top of each other, in Blender and in the .glb, and the
+    asset's budget counted the bolt once. As objects sharing one mesh, a part is
+    simplified once and drawn, counted and switched per copy, as the glTF importer's
+    shared meshes are (core.assembly). The copies are flattened under their empty: a
+    hierarchy inside the instanced collection becomes its world placement."""
+    from mathutils import Matrix
+
+    notes = []
+    for _ in range(INSTANCE_DEPTH):
+        instancers = [ob for ob in view_layer.objects
+                      if ob.instance_type == 'COLLECTION' and ob.instance_collection is not None]
+        if not instancers:
+            break
+        for empty in instancers:
+            coll = empty.instance_collection
+            into_collection_space = Matrix.Translation(-coll.instance_offset)
+            made = 0
+            for src in coll.all_objects:
+                copy = src.copy()
+                copy.parent = empty
+                copy.matrix_parent_inverse = Matrix.Identity(4)
+                copy.matrix_basis = into_collection_space @ src.matrix_world
+                for target in empty.users_collection:
+                    target.objects.link(copy)
+                made += 1
+            empty.instance_type = 'NONE'
+            view_layer.update()  # (the view layer lists objects newly linked only once updated)
+            notes.append(f'"{empty.name}": its instance of collection "{coll.name}" made real '
+                         f'({made} object{"s" if made != 1 else ""} sharing their meshes)')
+    return notes
+
+
+def select_objects(scene, names, view_layer=None) -> tuple:
+    """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
+    (of ``view_layer``'s objects when given: an excluded collection draws nothing)."""
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
     meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod_objects.LEVEL_PROP not in ob and ob not in widgets]
+    drawn = None if view_layer is None else set(view_layer.objects)
     if names:
         problems, picked = [], []
         for name in dict.fromkeys(names):
@@ -34,10 +79,15 @@ def select_objects(scene, names) -> tuple:
         if problems:
             raise InputError("; ".join(problems))
         return picked, []
+    skipped = []
+    if drawn is not None:
+        skipped = [f'"{ob.name}" skipped: not in the view layer (its collection is excluded)'
+                   for ob in meshes if ob not in drawn]
+        meshes = [ob for ob in meshes if ob in drawn]
     with_faces = [ob for ob in meshes if len(ob.data.polygons)]
     if not with_faces:
         raise InputError("no mesh objects with faces" if meshes else "no mesh objects")
-    skipped = [f'"{ob.name}" skipped: no faces' for ob in meshes if not len(ob.data.polygons)]
+    skipped += [f'"{ob.name}" skipped: no faces' for ob in meshes if not len(ob.data.polygons)]
     return with_faces, skipped
 
 
