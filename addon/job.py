@@ -202,7 +202,11 @@ class LodJob:
                 observer.splitting(count, self._asset_targets)
                 first = self._run_together(progress) if self.together() else self._split_budget(progress)
             else:
-                self.inputs[0].targets = list(self._asset_targets)
+                # One mesh drawn by every object of the asset: each copy gets its share of
+                # what the asset draws (two objects sharing a monkey got the asset's whole
+                # budget per copy, one level late; three, a target above the mesh's own).
+                copies = len(self._matrices[0])
+                self.inputs[0].targets = [max(1, t // copies) for t in self._asset_targets]
         elif self.asset is not None and self._one_run_allowed():
             first = self._search_together(progress)
         for index, lod_input in enumerate(self.inputs):

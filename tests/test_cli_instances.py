@@ -3,6 +3,7 @@ is written once to the .glb and every object keeps its own chain. Apart from
 tests/test_addon_instances.py because it exports glTF, which crashes Blender 4.2's own
 exporter in its bpy module (.ci/run leaves such files out on 4.2)."""
 import json
+from pathlib import Path
 import os
 import re
 import subprocess
@@ -83,16 +84,22 @@ def test_cli_report_progress_and_table_count_each_mesh_once(cli):
 def collection_cli(tmp_path_factory):
     """The command line on tests/scenarios/collection_instances.py's .blend."""
     work = tmp_path_factory.mktemp("collection_instances")
-    made = run_scenario("collection_instances", {"blend_out": str(work / "bolts.blend")}, user_dir=work / "user",
-                        install=False, timeout=600)
+    made = run_scenario("collection_instances", {"blend_out": str(work / "bolts.blend"),
+                                                 "shared_out": str(work / "shared.blend")},
+                        user_dir=work / "user", install=False, timeout=600)
     out, report = work / "out", work / "report.json"
     env = {**os.environ, **isolated_blender_env(work / "user")}
     proc = subprocess.run([sys.executable, str(REPO_ROOT), "--input", str(work / "bolts.blend"),
-                           "--ratios", "0.5", "0.25", "--output-dir", str(out), "--format", "glb",
-                           "--report", str(report)],
+                           str(work / "shared.blend"), "--ratios", "0.5", "0.25", "--output-dir", str(out),
+                           "--format", "glb", "--report", str(report)],
                           capture_output=True, text=True, cwd=work, env=env, timeout=600)
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    return {"glb": glb_json(out / "bolts_LODs.glb"), "report": json.loads(report.read_text()), **made}
+    files = {Path(f["input"]).name: f for f in json.loads(report.read_text())["files"]}
+    assert files["bolts.blend"]["ok"], proc.stderr[-3000:]
+    assert proc.returncode == (0 if files["shared.blend"]["ok"] else 1), proc.stderr[-3000:]
+    shared_glb = out / "shared_LODs.glb"
+    return {"glb": glb_json(out / "bolts_LODs.glb"), "report": {"files": [files["bolts.blend"]]},
+            "shared": files["shared.blend"], "shared_glb": glb_json(shared_glb) if shared_glb.exists() else None,
+            **made}
 
 
 def test_collection_instances_become_objects_that_share_the_bolts_lods(collection_cli):
@@ -140,3 +147,18 @@ def test_each_instance_switches_with_the_asset_and_shows_one_level(collection_cl
     for lod_mesh in bolt_meshes[1:]:
         users = [n["name"] for n in nodes if "mesh" in n and gltf["meshes"][n["mesh"]]["name"] == lod_mesh]
         assert len(users) == 3, users
+
+
+def test_an_asset_of_one_mesh_drawn_three_times_splits_its_budget_over_the_copies(collection_cli):
+    """Every object of the file draws one mesh (one of them mirrored, one stretched): the
+    asset's levels are what it draws, so each copy gets a third of each. Before, the one
+    mesh got the asset's whole budget: LOD1's 1,452 triangles for its 968, an error."""
+    entry = collection_cli["shared"]
+    assert entry["ok"], entry["error"]
+    drawn = 3 * collection_cli["monkey_triangles"]
+    for level, ratio in zip(entry["asset"]["levels"], (0.5, 0.25)):
+        assert drawn * ratio - 3 <= level["triangles"] <= drawn * ratio, (level["triangles"], drawn)
+    objects = {o["object"]: o for o in entry["objects"]}
+    assert sorted(objects) == ["Left", "Right", "Tall"]
+    assert len({tuple(lv["mesh"] for lv in o["levels"]) for o in objects.values()}) == 1
+    assert len([n for n in collection_cli["shared_glb"]["nodes"] if "MSFT_lod" in n.get("extensions", {})]) == 1

@@ -1,7 +1,9 @@
-"""A .blend whose bolts are collection instances (tests/test_cli_instances.py runs the
-command line on it): a cube "Base" with a Subdivision Surface, the collection "Bolts"
-(excluded from the view layer, as a kitbash library is) holding the UV sphere "Bolt",
-and three empties instancing it at their own places, one of them scaled."""
+"""Two .blends for the command line (tests/test_cli_instances.py). ``blend_out``: bolts
+that are collection instances: a cube "Base" with a Subdivision Surface, the collection
+"Bolts" (excluded from the view layer, as a kitbash library is) holding the UV sphere
+"Bolt", and three empties instancing it at their own places, one of them scaled.
+``shared_out``: one monkey mesh and nothing else, drawn by three objects: "Right",
+"Left" mirrored (scale x -1) and "Tall" (scale z 4)."""
 import bpy
 
 from scene_tools import remove_all_objects
@@ -9,7 +11,7 @@ from scene_tools import remove_all_objects
 PLACES = ((-1.5, 0.0, 1.2), (0.0, 0.0, 1.2), (1.5, 0.0, 1.2))
 
 
-def run(blend_out: str) -> dict:
+def run(blend_out: str, shared_out: str = "") -> dict:
     remove_all_objects()
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_cube_add(size=2.0)
@@ -35,4 +37,18 @@ def run(blend_out: str) -> dict:
         scene.collection.objects.link(empty)
     bpy.ops.wm.save_as_mainfile(filepath=blend_out)
     bolt.data.calc_loop_triangles()
-    return {"bolt_triangles": len(bolt.data.loop_triangles)}
+    made = {"bolt_triangles": len(bolt.data.loop_triangles)}
+    if shared_out:
+        remove_all_objects()
+        bpy.ops.mesh.primitive_monkey_add(location=(1.5, 0.0, 0.0))
+        right = bpy.context.active_object
+        right.name = "Right"
+        for name, location, scale in (("Left", (-1.5, 0.0, 0.0), (-1.0, 1.0, 1.0)),
+                                      ("Tall", (0.0, 3.0, 0.0), (1.0, 1.0, 4.0))):
+            ob = bpy.data.objects.new(name, right.data)
+            ob.location, ob.scale = location, scale
+            scene.collection.objects.link(ob)
+        bpy.ops.wm.save_as_mainfile(filepath=shared_out)
+        right.data.calc_loop_triangles()
+        made["monkey_triangles"] = len(right.data.loop_triangles)
+    return made
