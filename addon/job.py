@@ -41,6 +41,7 @@ from .pure import deviation_search
 from .pure import level_deviation
 from .pure import measure
 from . import lod
+from . import mesh_io
 from . import object_importance
 from .pure._core import core
 from .pure.phases import LodInput, LodOutput
@@ -126,6 +127,18 @@ class LodJob:
         shared = {}  # lod.shared_mesh_key -> [(settings, group index)]
         for ob in objects:
             lod.check_source(ob)
+        # A part with nothing to simplify (no faces, or none its modifiers leave) is left
+        # out of an asset with a note, as the command line skips one: it drew nothing.
+        # Alone, prepare() says why it cannot be simplified.
+        self.skipped = []  # notes: '"name" skipped: why'
+        if len(objects) > 1:
+            _, depsgraph = mesh_io.scene_and_depsgraph(context)
+            why = [lod.nothing_to_simplify(ob, depsgraph, s.use_modifiers) for ob, s in zip(objects, per_object)]
+            if all(why):
+                raise LodError(f"none of the {len(objects)} objects has faces to simplify")
+            self.skipped = [f'"{ob.name}" skipped: {w}' for ob, w in zip(objects, why) if w]
+            objects = [ob for ob, w in zip(objects, why) if not w]
+            per_object = [s for s, w in zip(per_object, why) if not w]
         self.asset = None
         if asset_set.is_asset(objects, per_object):
             self.asset = asset_set.asset_of(objects, asset_name or asset_set.default_name(objects))

@@ -52,6 +52,25 @@ def check_source(source) -> None:
         raise LodError(f'"{source.name}" is in Edit Mode: switch to Object Mode first')
 
 
+def faces_to_read(source, depsgraph, use_modifiers: bool) -> int:
+    """The faces prepare() would read from the mesh object ``source``: its evaluated
+    mesh's, through its modifiers (a Mask or Boolean can leave none), or its own mesh's
+    with ``use_modifiers`` off. Cheap: nothing is read."""
+    if not use_modifiers or not mesh_io.has_geometry_modifiers(source):
+        return len(source.data.polygons)
+    return len(source.evaluated_get(depsgraph).data.polygons)
+
+
+def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]:
+    """Why the mesh object ``source`` has nothing to simplify ("skipped: ..." follows its
+    name in the notes of an asset that goes on without it), or None."""
+    if faces_to_read(source, depsgraph, use_modifiers):
+        return None
+    if use_modifiers and mesh_io.has_geometry_modifiers(source) and len(source.data.polygons):
+        return "its modifiers leave no faces"
+    return "no faces"
+
+
 def shared_mesh_key(source, settings: LodSettings):
     """What objects whose LODs would be identical have in common (their mesh datablock's
     pointer), or None for an object whose LODs must be made on their own.

@@ -181,6 +181,8 @@ class OBJECT_OT_line_quadric_lod(bpy.types.Operator):
         panel = scene_settings(context)
         if panel is not None:
             panel.last_report = json.dumps(reports)
+        for note in job.skipped:
+            self.report({'WARNING'}, note)
         for rep in reports:
             for warning in rep["warnings"]:
                 self.report({'WARNING'}, f"{rep['object']}: {warning}")

@@ -196,3 +196,15 @@ def test_a_part_under_a_limit_in_pixels_gets_its_share_under_that_limit(res):
         assert kept["within"] and kept["region_pixels"] <= 0.1 * (1 + 1e-9), kept
     # The parts without the group say they are free.
     assert any('no vertex group "Face"' in w for w in held["reports"]["Bolt"]["warnings"])
+
+
+def test_a_part_whose_modifiers_leave_no_faces_is_left_out_with_a_note(res):
+    """A cube whose Mask modifier leaves nothing drew nothing: the asset goes on without
+    it, with a note, and its budget is the other parts'. It failed the asset before:
+    '"Masked" has an empty mesh'."""
+    run, plain = res["masked"], res["asset"]
+    assert "error" not in run, run.get("error")
+    assert run["skipped"] == ['"Masked" skipped: its modifiers leave no faces']
+    assert "Masked" not in run["lods"] and sorted(run["lods"]) == sorted(plain["lods"])
+    assert [lev["triangles"] for lev in run["asset"]["levels"]] == [lev["triangles"] for lev in
+                                                                    plain["asset"]["levels"]]

@@ -55,9 +55,12 @@ def make_instances_real(scene, view_layer) -> list:
     return notes
 
 
-def select_objects(scene, names, view_layer=None) -> tuple:
+def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
     """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
-    (of ``view_layer``'s objects when given: an excluded collection draws nothing)."""
+    (of ``view_layer``'s objects when given: an excluded collection draws nothing) and has
+    faces to simplify (through its modifiers when ``depsgraph`` is given and
+    ``use_modifiers``: a Mask or Boolean can leave none, and such an object failed its
+    file)."""
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
@@ -84,10 +87,16 @@ def select_objects(scene, names, view_layer=None) -> tuple:
         skipped = [f'"{ob.name}" skipped: not in the view layer (its collection is excluded)'
                    for ob in meshes if ob not in drawn]
         meshes = [ob for ob in meshes if ob in drawn]
-    with_faces = [ob for ob in meshes if len(ob.data.polygons)]
+    if depsgraph is None:
+        empty = {ob: "no faces" for ob in meshes if not len(ob.data.polygons)}
+    else:
+        from .. import lod
+
+        empty = {ob: why for ob in meshes if (why := lod.nothing_to_simplify(ob, depsgraph, use_modifiers))}
+    with_faces = [ob for ob in meshes if ob not in empty]
     if not with_faces:
         raise InputError("no mesh objects with faces" if meshes else "no mesh objects")
-    skipped += [f'"{ob.name}" skipped: no faces' for ob in meshes if not len(ob.data.polygons)]
+    skipped += [f'"{ob.name}" skipped: {why}' for ob, why in empty.items()]
     return with_faces, skipped
 
 

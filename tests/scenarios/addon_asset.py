@@ -14,9 +14,10 @@ from addon.pure._core import core
 from scene_tools import mesh_hash, remove_all_objects
 
 
-def build(painted: bool = False) -> list:
+def build(painted: bool = False, masked: bool = False) -> list:
     """The asset's objects; ``painted``: the hull's top (z > 1) painted 1 in a vertex group
-    "Face", fading to 0 at z = 0.4 (a region a painted limit holds)."""
+    "Face", fading to 0 at z = 0.4 (a region a painted limit holds); ``masked``: also a cube
+    "Masked" whose Mask modifier (an empty vertex group) leaves no faces."""
     remove_all_objects()
     for me in list(bpy.data.meshes):
         bpy.data.meshes.remove(me)
@@ -39,7 +40,14 @@ def build(painted: bool = False) -> list:
     bpy.ops.mesh.primitive_plane_add(size=0.3, location=(0.0, 2.05, 0.0))
     decal = bpy.context.active_object
     decal.name = "Decal"
-    return [hull, bolt, other, decal]
+    if not masked:
+        return [hull, bolt, other, decal]
+    bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, -3.0, 0.0))
+    cube = bpy.context.active_object
+    cube.name = "Masked"
+    cube.vertex_groups.new(name="Nothing")
+    cube.modifiers.new("Mask", 'MASK').vertex_group = "Nothing"
+    return [hull, bolt, other, decal, cube]
 
 
 def triangles(ob) -> int:
@@ -47,8 +55,8 @@ def triangles(ob) -> int:
     return len(ob.data.loop_triangles)
 
 
-def run_job(painted: bool = False, **settings) -> dict:
-    objects = build(painted)
+def run_job(painted: bool = False, masked: bool = False, **settings) -> dict:
+    objects = build(painted, masked)
     names = [ob.name for ob in objects]
     hashes = {ob.name: mesh_hash(ob.data) for ob in objects}
     source_triangles = {ob.name: triangles(ob) for ob in objects}
@@ -56,6 +64,7 @@ def run_job(painted: bool = False, **settings) -> dict:
     try:
         job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(**settings))
         out["together"] = job.together()
+        out["skipped"] = job.skipped
         fractions = []
         # How many core runs over how many meshes the job makes (one run for the asset,
         # or one per part).
@@ -128,4 +137,6 @@ def run() -> dict:
         # curves sees the limit, so the asset still draws its budget.
         "limit_pixels": run_job(painted=True, ratios=(0.5, 0.25, 0.125), limit_group="Face",
                                 limit_distance=0.1, limit_unit='PIXELS'),
+        # A cube whose Mask modifier leaves no faces: the asset goes on without it.
+        "masked": run_job(masked=True, ratios=(0.5, 0.25, 0.125), measure_deviation=False),
     }

@@ -2,8 +2,8 @@
 that are collection instances: a cube "Base" with a Subdivision Surface, the collection
 "Bolts" (excluded from the view layer, as a kitbash library is) holding the UV sphere
 "Bolt", and three empties instancing it at their own places, one of them scaled.
-``shared_out``: one monkey mesh and nothing else, drawn by three objects: "Right",
-"Left" mirrored (scale x -1) and "Tall" (scale z 4)."""
+``shared_out``: one monkey mesh drawn by three objects: "Right", "Left" mirrored (scale
+x -1) and "Tall" (scale z 4), and a cube "Masked" whose Mask modifier leaves no faces."""
 import bpy
 
 from scene_tools import remove_all_objects
@@ -48,7 +48,12 @@ def run(blend_out: str, shared_out: str = "") -> dict:
             ob = bpy.data.objects.new(name, right.data)
             ob.location, ob.scale = location, scale
             scene.collection.objects.link(ob)
-        bpy.ops.wm.save_as_mainfile(filepath=shared_out)
         right.data.calc_loop_triangles()
         made["monkey_triangles"] = len(right.data.loop_triangles)
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, -3.0, 0.0))
+        cube = bpy.context.active_object
+        cube.name = "Masked"
+        cube.vertex_groups.new(name="Nothing")
+        cube.modifiers.new("Mask", 'MASK').vertex_group = "Nothing"
+        bpy.ops.wm.save_as_mainfile(filepath=shared_out)
     return made
