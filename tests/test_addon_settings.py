@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
+import numpy as np
 import pytest
 
 import core
@@ -160,3 +161,28 @@ def test_the_panel_chain_by_deviation_and_by_screen_size():
     assert LodSettings().deviation_chain() is None, "the default chain is by triangles"
     explicit = LodSettings(target_by='DEVIATION', ratios=(0.5,))
     assert explicit.deviation_chain() is None, "an explicit chain by ratios wins over the panel's By"
+
+
+def _sharp_cube(everywhere: bool):
+    """A cube's 12 triangles with its 18 edges: all marked sharp, or the 12 box edges only."""
+    from addon.pure.mesh_data import MeshData
+
+    v = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    f = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    box = np.array(sorted({tuple(sorted(e)) for a, b, c, d in quads for e in ((a, b), (b, c), (c, d), (d, a))}))
+    diagonals = np.array([(a, c) for a, b, c, d in quads])
+    sharp = np.concatenate([box, diagonals]) if everywhere else box
+    return MeshData(vertices=v, faces=f, material_index=np.zeros(len(f), np.int64), smooth=np.zeros(len(f), bool),
+                    smooth_group=np.zeros(len(f), np.int64), sharp_edges=sharp, sharp_everywhere=everywhere)
+
+
+def test_sharp_marks_on_every_edge_hold_no_collapse_back():
+    """Marks on every edge (how the OBJ and FBX importers bring a flat-shaded mesh) single
+    out no crease: no feature edges from them; marks on some edges are features."""
+    from addon.pure.options import mesh_options
+
+    flat, options_of = _sharp_cube(True), LodSettings(preserve_seams=False, preserve_materials=False)
+    some = _sharp_cube(False)
+    assert mesh_options(options_of, flat, [])[0].feature_edges is None
+    assert len(mesh_options(options_of, some, [])[0].feature_edges) == len(some.sharp_edges)
