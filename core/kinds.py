@@ -77,6 +77,8 @@ FAULTS = (
     ("pinched vertex", "core.kinds", "COMPLEX, as above"),
     ("sliver-rich tessellation", "core.slivers", "the LOD may have the input's share of slivers (5 % or more "
                                                  "of its faces)"),
+    ("UV changing at one end of a seam edge", "core.wedges", "the other end (a fan pole's ring, a cut's tip) "
+                                                             "has one UV: no seam vertex, it moves freely"),
     ("normals split at every hard edge", "core.engine", "custom normals are Options.seamless_attributes: "
                                                         "carried, each side its own, but no seams"),
     ("tiny separate parts", "core.components", "each shrinks to its smallest; below that the smallest parts go "
