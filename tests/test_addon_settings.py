@@ -186,3 +186,22 @@ def test_sharp_marks_on_every_edge_hold_no_collapse_back():
     some = _sharp_cube(False)
     assert mesh_options(options_of, flat, [])[0].feature_edges is None
     assert len(mesh_options(options_of, some, [])[0].feature_edges) == len(some.sharp_edges)
+
+
+def test_a_colour_per_facet_is_carried_without_making_seams():
+    """A corner colour layer with a colour per triangle jumps across every edge: as seams
+    every vertex would be a junction, locked. It is carried like custom normals
+    (seamless); a layer with two colour regions keeps its seam."""
+    from addon.pure.mesh_data import ColorLayer
+    from addon.pure.options import mesh_options
+
+    cube = _sharp_cube(False)
+    per_face = np.repeat(np.random.default_rng(1).random((len(cube.faces), 1, 4)), 3, axis=1)
+    halves = np.repeat(np.where(cube.vertices[cube.faces].mean(axis=1)[:, :1] < 0.5, 0.0, 1.0)[:, :, None]
+                       * np.ones((1, 1, 4)), 3, axis=1)
+    settings = LodSettings(preserve_seams=False, preserve_materials=False, preserve_sharp=False)
+    for values, seamless in ((per_face, True), (halves, False)):
+        cube.colors = [ColorLayer("Col", 'CORNER', 'FLOAT_COLOR', values)]
+        options = mesh_options(settings, cube, [])[0]
+        assert ("color0" in options.seamless_attributes) == seamless
+        assert "color0" in options.corner_attributes

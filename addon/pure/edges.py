@@ -82,6 +82,14 @@ def corner_discontinuous_edges(faces: np.ndarray, corner_values: np.ndarray, tol
     return unique_edges(edges[jump])
 
 
+def faceted(faces: np.ndarray, corner_values: np.ndarray, tol: float = 1e-6) -> bool:
+    """Whether a per-corner attribute jumps across more than half of the triangle pairs
+    of ``faces``: a value per face (a colour per facet, as low-poly exports paint them),
+    whose every vertex would be a seam junction, rather than regions with seams between."""
+    pairs = len(adjacent_triangle_pairs(faces)[0])
+    return pairs > 0 and len(corner_discontinuous_edges(faces, corner_values, tol)) > 0.5 * pairs
+
+
 def unique_edges(pairs: np.ndarray) -> np.ndarray:
     """Undirected edges, each once, as (min, max) rows sorted by key."""
     p = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)

@@ -58,9 +58,16 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
         if other_cols:
             vattr["groups"] = weights[:, other_cols]
             names["groups"] = other_cols
+    seamless = []  # corner attributes carried without making seams (core Options.seamless_attributes)
     for i, layer in enumerate(data.colors):
         key = f"color{i}"
         (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
+        if layer.domain != 'POINT' and edge_util.faceted(data.faces, layer.data):
+            # A colour per facet: as seams its jumps made every vertex a junction, locked,
+            # and in an asset six such gems kept all 320 of their triangles at LOD1 while
+            # a rounded cube beside them went from 3,072 to 576 (to 4 at LOD2). Carried
+            # like the custom normals below: each side keeps its own colours.
+            seamless.append(key)
     for i, sk in enumerate(data.shape_keys):
         vattr[f"shape{i}"] = sk.offsets
     for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
@@ -72,6 +79,7 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
         # no seam (core Options.seamless_attributes): an exporter's hard edges are
         # everywhere on a faceted low-poly mesh and would lock nearly every vertex.
         cattr["normal"] = data.custom_normals
+        seamless.append("normal")
 
     feature_sets = []
     # Sharp marks on every edge say "shaded flat", not where the creases are (the OBJ and
@@ -96,7 +104,7 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
         normalize_attributes=tuple(normalize),
         corner_attributes=cattr,
         uv_attributes=tuple(uvs),
-        seamless_attributes=("normal",) if "normal" in cattr else (),
+        seamless_attributes=tuple(seamless),
     )
     if len(feature_edges):
         options = core.Options.of(options, feature_edges=feature_edges, edge_weights=edge_weights)
