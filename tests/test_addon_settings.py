@@ -188,10 +188,10 @@ def test_sharp_marks_on_every_edge_hold_no_collapse_back():
     assert len(mesh_options(options_of, some, [])[0].feature_edges) == len(some.sharp_edges)
 
 
-def test_a_colour_per_facet_is_carried_without_making_seams():
+def test_a_colour_or_uv_per_facet_is_carried_without_making_seams():
     """A corner colour layer with a colour per triangle jumps across every edge: as seams
     every vertex would be a junction, locked. It is carried like custom normals
-    (seamless); a layer with two colour regions keeps its seam."""
+    (seamless); a layer with two colour regions keeps its seam. A UV map alike."""
     from addon.pure.mesh_data import ColorLayer
     from addon.pure.options import mesh_options
 
@@ -202,6 +202,10 @@ def test_a_colour_per_facet_is_carried_without_making_seams():
     settings = LodSettings(preserve_seams=False, preserve_materials=False, preserve_sharp=False)
     for values, seamless in ((per_face, True), (halves, False)):
         cube.colors = [ColorLayer("Col", 'CORNER', 'FLOAT_COLOR', values)]
+        # The same for a UV map: each face its own island, as Lightmap Pack makes them.
+        cube.uv_maps = {"UVMap": values[..., :2]}
         options = mesh_options(settings, cube, [])[0]
-        assert ("color0" in options.seamless_attributes) == seamless
-        assert "color0" in options.corner_attributes
+        for key in ("color0", "uv0"):
+            assert (key in options.seamless_attributes) == seamless, key
+            assert key in options.corner_attributes
+        assert options.uv_attributes == ("uv0",)

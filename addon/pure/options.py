@@ -73,6 +73,8 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
     for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
         cattr[f"uv{i}"] = corners
         uvs.append(f"uv{i}")
+        if edge_util.faceted(data.faces, corners):
+            seamless.append(f"uv{i}")  # each face its own island (Lightmap Pack): as a colour per facet
     if data.custom_normals is not None:
         # Carried like any corner attribute: a corner keeps (or interpolates) its source
         # corners' normals, and a hard edge, where the normals differ, stays a split. But
