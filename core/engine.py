@@ -215,7 +215,9 @@ def run(p: Problem) -> list:
     X = np.concatenate([p.vertex_attributes[k] for k in names], axis=1) if names else np.zeros((n, 0))
     seamed = {k: a for k, a in p.corner_attributes.items() if k not in p.options.seamless_attributes}
     seamless = {k: a for k, a in p.corner_attributes.items() if k in p.options.seamless_attributes}
-    wedges = Wedges.build(F, seamed, p.options.uv_attributes) if seamed else None
+    # The UV rules (flips, areas) are the seamed maps': a seamless one (a map with an island
+    # per face) keeps each face's own corner values.
+    wedges = Wedges.build(F, seamed, [a for a in p.options.uv_attributes if a in seamed]) if seamed else None
     s = State(
         V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=p.locked, complex=complex_, corners=corners,
         X=X, wedges=wedges, touched=np.zeros(n, dtype=np.int64),

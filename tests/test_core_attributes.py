@@ -502,3 +502,20 @@ def test_seamless_attributes_must_name_corner_attributes():
     V, F, _, normals = _faceted_sphere()
     with pytest.raises(ValueError, match="seamless_attributes names 'normals'"):
         core.simplify(V, F, ratio=0.5, corner_attributes={"normal": normals}, seamless_attributes=("normals",))
+
+
+def test_a_seamless_uv_map_beside_a_seamed_one():
+    """Two UV maps, the first an island per face carried seamless (the add-on's reading of
+    Lightmap Pack): the run goes through (the UV rules were asked for the seamless map's
+    columns too: KeyError), both maps come back, and no UV triangle of the seamed map
+    flips or leaves its island."""
+    V, F, UV = build.uv_sphere(24, 12)
+    per_face = np.random.default_rng(0).random((len(F), 3, 2))
+    r = core.simplify(V, F, ratio=0.2, corner_attributes={"lightmap": per_face, "uv": UV},
+                      uv_attributes=("lightmap", "uv"), seamless_attributes=("lightmap",))
+    check.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == core.STOP_TARGET
+    assert r.corner_attributes["lightmap"].shape == (len(r.faces), 3, 2)
+    assert r.corner_attributes["uv"].shape == (len(r.faces), 3, 2)
+    if r.stats.relaxation_step < SEAMS_FREE:
+        _check_uvs(V, F, UV, None, r)
