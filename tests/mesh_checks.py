@@ -76,12 +76,12 @@ def uv_signed_area(UV):
     return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
 
 
-def seam_edges(F, UV, tol=0.0):
-    """Interior edges across which the corner UVs differ: (s, 2) sorted vertex pairs.
+def _uv_changes_by_end(F, UV, tol):
+    """The interior edges, (s, 2) sorted vertex pairs (lo, hi), and per edge whether its
+    two faces' UVs differ at lo and at hi, (s,) bool each.
 
-    For each directed half-edge (a -> b) of a face, the UVs at a and b in that face; an
-    interior edge is a seam when its two faces disagree at either end.
-    """
+    For each directed half-edge (a -> b) of a face, the UVs at a and b in that face,
+    sorted so that the two half-edges of an interior edge lie side by side."""
     he = directed_edges(F)
     uv_a = np.concatenate([UV[:, 0], UV[:, 1], UV[:, 2]])
     uv_b = np.concatenate([UV[:, 1], UV[:, 2], UV[:, 0]])
@@ -91,10 +91,17 @@ def seam_edges(F, UV, tol=0.0):
     uv_hi = np.where(lo_first[:, None], uv_b, uv_a)
     order = np.lexsort((key[:, 1], key[:, 0]))
     key, uv_lo, uv_hi = key[order], uv_lo[order], uv_hi[order]
-    same_edge = np.all(key[1:] == key[:-1], axis=1)
-    pair = np.flatnonzero(same_edge)  # half-edge pair (pair, pair + 1) of an interior edge
-    differ = (np.abs(uv_lo[pair] - uv_lo[pair + 1]).max(1) > tol) | (np.abs(uv_hi[pair] - uv_hi[pair + 1]).max(1) > tol)
-    return key[pair[differ]]
+    pair = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))  # half-edges (pair, pair + 1)
+    at_lo = np.abs(uv_lo[pair] - uv_lo[pair + 1]).max(1) > tol
+    at_hi = np.abs(uv_hi[pair] - uv_hi[pair + 1]).max(1) > tol
+    return key[pair], at_lo, at_hi
+
+
+def seam_edges(F, UV, tol=0.0):
+    """Interior edges across which the corner UVs differ: (s, 2) sorted vertex pairs; an
+    interior edge is a seam when its two faces disagree at either end."""
+    edges, at_lo, at_hi = _uv_changes_by_end(F, UV, tol)
+    return edges[at_lo | at_hi]
 
 
 def uv_change_counts(F, UV, n=None, tol=0.0):
@@ -104,19 +111,8 @@ def uv_change_counts(F, UV, n=None, tol=0.0):
     pole whose triangles each have their own UV), 2 along a seam, else an end or a
     junction of seams."""
     n = int(F.max()) + 1 if n is None else n
-    he = directed_edges(F)
-    uv_a = np.concatenate([UV[:, 0], UV[:, 1], UV[:, 2]])
-    uv_b = np.concatenate([UV[:, 1], UV[:, 2], UV[:, 0]])
-    lo_first = he[:, 0] < he[:, 1]
-    key = np.sort(he, axis=1)
-    uv_lo = np.where(lo_first[:, None], uv_a, uv_b)
-    uv_hi = np.where(lo_first[:, None], uv_b, uv_a)
-    order = np.lexsort((key[:, 1], key[:, 0]))
-    key, uv_lo, uv_hi = key[order], uv_lo[order], uv_hi[order]
-    pair = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))
-    at_lo = np.abs(uv_lo[pair] - uv_lo[pair + 1]).max(1) > tol
-    at_hi = np.abs(uv_hi[pair] - uv_hi[pair + 1]).max(1) > tol
-    return np.bincount(np.r_[key[pair[at_lo], 0], key[pair[at_hi], 1]], minlength=n)
+    edges, at_lo, at_hi = _uv_changes_by_end(F, UV, tol)
+    return np.bincount(np.r_[edges[at_lo, 0], edges[at_hi, 1]], minlength=n)
 
 
 def uv_islands(F, UV):
