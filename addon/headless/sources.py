@@ -49,9 +49,9 @@ def make_instances_real(scene, view_layer) -> list:
                     target.objects.link(copy)
                 made += 1
             empty.instance_type = 'NONE'
-            view_layer.update()  # (the view layer lists objects newly linked only once updated)
             notes.append(f'"{empty.name}": its instance of collection "{coll.name}" made real '
                          f'({made} object{"s" if made != 1 else ""} sharing their meshes)')
+        view_layer.update()  # (the view layer lists newly linked objects once updated)
     return notes
 
 
