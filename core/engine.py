@@ -216,7 +216,7 @@ def run(p: Problem) -> list:
     seamed = {k: a for k, a in p.corner_attributes.items() if k not in p.options.seamless_attributes}
     seamless = {k: a for k, a in p.corner_attributes.items() if k in p.options.seamless_attributes}
     # The UV rules (flips, areas) are the seamed maps': a seamless one (a map with an island
-    # per face) keeps each face's own corner values.
+    # per face) is carried like custom normals, each side of a collapse its own values.
     wedges = Wedges.build(F, seamed, [a for a in p.options.uv_attributes if a in seamed]) if seamed else None
     s = State(
         V=p.vertices.copy(), Q=np.asfortranarray(Q), area=area, F=F, face_origin=p.face_origin, locked=p.locked, complex=complex_, corners=corners,
