@@ -62,23 +62,7 @@ def corner_discontinuous_edges(faces: np.ndarray, corner_values: np.ndarray, tol
     corner_values: (m, 3, c), indexed like ``faces``. An edge is discontinuous when, at
     either of its two vertices, the values in the two triangles differ by more than tol.
     """
-    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    cv = np.asarray(corner_values, dtype=np.float64)
-    cv = cv.reshape(len(f), 3, -1)
-    edges, fa, fb = adjacent_triangle_pairs(f)
-    if len(edges) == 0:
-        return edges
-
-    def corner_of(face_idx, vert):
-        # Local corner (0..2) at which ``vert`` sits in each triangle of ``face_idx``.
-        return np.argmax(f[face_idx] == vert[:, None], axis=1)
-
-    jump = np.zeros(len(edges), dtype=bool)
-    for end in (0, 1):
-        v = edges[:, end]
-        va = cv[fa, corner_of(fa, v)]
-        vb = cv[fb, corner_of(fb, v)]
-        jump |= np.abs(va - vb).max(axis=1) > tol
+    edges, jump = _corner_jumps(faces, corner_values, tol)
     return unique_edges(edges[jump])
 
 
@@ -86,8 +70,30 @@ def faceted(faces: np.ndarray, corner_values: np.ndarray, tol: float = 1e-6) -> 
     """Whether a per-corner attribute jumps across more than half of the triangle pairs
     of ``faces``: a value per face (a colour per facet, as low-poly exports paint them),
     whose every vertex would be a seam junction, rather than regions with seams between."""
-    pairs = len(adjacent_triangle_pairs(faces)[0])
-    return pairs > 0 and len(corner_discontinuous_edges(faces, corner_values, tol)) > 0.5 * pairs
+    edges, jump = _corner_jumps(faces, corner_values, tol)
+    return len(edges) > 0 and len(unique_edges(edges[jump])) > 0.5 * len(edges)
+
+
+def _corner_jumps(faces, corner_values, tol) -> tuple:
+    """(the triangle pairs' shared edges (k, 2), whether the values jump across each (k,))."""
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    cv = np.asarray(corner_values, dtype=np.float64)
+    cv = cv.reshape(len(f), 3, -1)
+    edges, fa, fb = adjacent_triangle_pairs(f)
+    jump = np.zeros(len(edges), dtype=bool)
+    if len(edges) == 0:
+        return edges, jump
+
+    def corner_of(face_idx, vert):
+        # Local corner (0..2) at which ``vert`` sits in each triangle of ``face_idx``.
+        return np.argmax(f[face_idx] == vert[:, None], axis=1)
+
+    for end in (0, 1):
+        v = edges[:, end]
+        va = cv[fa, corner_of(fa, v)]
+        vb = cv[fb, corner_of(fb, v)]
+        jump |= np.abs(va - vb).max(axis=1) > tol
+    return edges, jump
 
 
 def unique_edges(pairs: np.ndarray) -> np.ndarray:
