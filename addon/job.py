@@ -127,15 +127,19 @@ class LodJob:
         shared = {}  # lod.shared_mesh_key -> [(settings, group index)]
         for ob in objects:
             lod.check_source(ob)
-        # A part with nothing to simplify (no faces, or none its modifiers leave) is left
-        # out of an asset with a note, as the command line skips one: it drew nothing.
-        # Alone, prepare() says why it cannot be simplified.
+        # A helper of the asset (a Boolean cutter, an object disabled in renders, a
+        # collision mesh) and a part with nothing to simplify (no faces, or none its
+        # modifiers leave) are left out of an asset with a note, as the command line skips
+        # them: they draw nothing of it. Alone, an object is simplified as asked, or
+        # prepare() says why it cannot be.
         self.skipped = []  # notes: '"name" skipped: why'
         if len(objects) > 1:
-            _, depsgraph = mesh_io.scene_and_depsgraph(context)
-            why = [lod.nothing_to_simplify(ob, depsgraph, s.use_modifiers) for ob, s in zip(objects, per_object)]
+            scene, depsgraph = mesh_io.scene_and_depsgraph(context)
+            operands = lod.boolean_operands(scene.objects)
+            why = [lod.left_out(ob, depsgraph, s.use_modifiers, operands) for ob, s in zip(objects, per_object)]
             if all(why):
-                raise LodError(f"none of the {len(objects)} objects has faces to simplify")
+                raise LodError(f"none of the {len(objects)} objects is a part to simplify: "
+                               + "; ".join(f'"{ob.name}": {w}' for ob, w in zip(objects, why)))
             self.skipped = [f'"{ob.name}" skipped: {w}' for ob, w in zip(objects, why) if w]
             objects = [ob for ob, w in zip(objects, why) if not w]
             per_object = [s for s, w in zip(per_object, why) if not w]

@@ -71,6 +71,52 @@ def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]
     return "no faces"
 
 
+# Unreal's names for the collision meshes an FBX carries beside its render meshes (convex
+# hulls, boxes, spheres, capsules): the engine takes them as they are, and LODs of them
+# would be render meshes named like collision.
+COLLISION_PREFIXES = ("UCX_", "UBX_", "USP_", "UCP_")
+
+
+def boolean_operands(objects) -> set:
+    """Names of the objects that a Boolean modifier of one of ``objects`` cuts with or
+    joins (its operand object, or every object of its operand collection), enabled or not."""
+    names = set()
+    for ob in objects:
+        for mod in getattr(ob, "modifiers", ()):
+            if mod.type != 'BOOLEAN':
+                continue
+            if getattr(mod, "operand_type", 'OBJECT') == 'COLLECTION':
+                if mod.collection is not None:
+                    names.update(o.name for o in mod.collection.all_objects)
+            elif mod.object is not None:
+                names.add(mod.object.name)
+    return names
+
+
+def helper_role(source, operands: set) -> Optional[str]:
+    """Why the object ``source`` is a helper of the asset rather than a part of what it
+    draws ("skipped: ..." follows its name in the notes), or None. ``operands``: the
+    scene's boolean_operands.
+
+    A hard-surface file keeps its Boolean cutters beside the objects they cut, and a file
+    made for an engine its collision meshes: neither is seen in a render, and as parts they
+    took a share of every level's triangle budget, were measured into the asset's
+    distance and got LODs of their own, drawn solid in the written file."""
+    if source.name in operands:
+        return "a Boolean modifier's operand (its shape is already in the object whose modifier uses it)"
+    if source.hide_render:
+        return "disabled in renders"
+    if source.name.upper().startswith(COLLISION_PREFIXES):
+        return "a collision mesh (Unreal's UCX_ naming), which engines take as it is"
+    return None
+
+
+def left_out(source, depsgraph, use_modifiers: bool, operands: set) -> Optional[str]:
+    """Why an object of several is not a part of their asset (helper_role, then
+    nothing_to_simplify), or None."""
+    return helper_role(source, operands) or nothing_to_simplify(source, depsgraph, use_modifiers)
+
+
 def shared_mesh_key(source, settings: LodSettings):
     """What objects whose LODs would be identical have in common (their mesh datablock's
     pointer), or None for an object whose LODs must be made on their own.

@@ -208,3 +208,25 @@ def test_a_part_whose_modifiers_leave_no_faces_is_left_out_with_a_note(res):
     assert "Masked" not in run["lods"] and sorted(run["lods"]) == sorted(plain["lods"])
     assert [lev["triangles"] for lev in run["asset"]["levels"]] == [lev["triangles"] for lev in
                                                                     plain["asset"]["levels"]]
+
+
+def test_boolean_cutters_render_disabled_objects_and_collision_meshes_are_not_parts(res):
+    """Selected with the parts, a Boolean cutter (a wire cylinder the hull's modifier cuts
+    with), a box disabled in renders and a "UCX_" collision box are left out with a note
+    each: no LODs of their own, no share of the budget, which is what the asset draws (the
+    hull as its Boolean modifier leaves it). Before, they were parts: the cutter took a
+    share of every level and its LODs were drawn solid."""
+    run = res["helpers"]
+    assert "error" not in run, run.get("error")
+    assert run["skipped"] == [
+        '"Cutter" skipped: a Boolean modifier\'s operand (its shape is already in the object whose modifier uses it)',
+        '"Proxy" skipped: disabled in renders',
+        '"UCX_Hull" skipped: a collision mesh (Unreal\'s UCX_ naming), which engines take as it is']
+    assert sorted(run["lods"]) == ["Bolt", "Bolt2", "Decal", "Hull"], sorted(run["lods"])
+    assert run["unchanged"]
+    drawn = run["drawn_triangles"]
+    asset = drawn["Hull"] + 2 * drawn["Bolt"] + drawn["Decal"]
+    assert drawn["Hull"] != run["source_triangles"]["Hull"]  # the hole is cut
+    assert run["asset"]["source_triangles"] == asset, run["asset"]
+    for k, level in enumerate(run["asset"]["levels"]):
+        assert abs(level["triangles"] - RATIOS[k] * asset) <= max(4, 0.01 * asset * RATIOS[k]), (k, level)

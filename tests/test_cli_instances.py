@@ -154,10 +154,13 @@ def test_an_asset_of_one_mesh_drawn_three_times_splits_its_budget_over_the_copie
     asset's levels are what it draws, so each copy gets a third of each. Before, the one
     mesh got the asset's whole budget: LOD1's 1,452 triangles for its 968, an error. A
     cube whose Mask modifier leaves no faces is skipped with a note (it failed the file:
-    '"Masked" has an empty mesh')."""
+    '"Masked" has an empty mesh'), and so are a Boolean cutter and a collision box, which
+    were parts before."""
     entry = collection_cli["shared"]
     assert entry["ok"], entry["error"]
     assert '"Masked" skipped: its modifiers leave no faces' in entry["warnings"], entry["warnings"]
+    assert any(w.startswith('"Cutter" skipped: a Boolean modifier') for w in entry["warnings"]), entry["warnings"]
+    assert any(w.startswith('"UCX_Right" skipped: a collision mesh') for w in entry["warnings"]), entry["warnings"]
     drawn = 3 * collection_cli["monkey_triangles"]
     for level, ratio in zip(entry["asset"]["levels"], (0.5, 0.25)):
         assert drawn * ratio - 3 <= level["triangles"] <= drawn * ratio, (level["triangles"], drawn)

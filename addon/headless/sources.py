@@ -57,6 +57,7 @@ def make_instances_real(scene, view_layer) -> list:
 
 def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
     """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
+    nor a helper (a Boolean cutter, disabled in renders, a collision mesh: lod.helper_role)
     (of ``view_layer``'s objects when given: an excluded collection draws nothing) and has
     faces to simplify (through its modifiers when ``depsgraph`` is given and
     ``use_modifiers``: a Mask or Boolean can leave none, and such an object failed its
@@ -87,15 +88,20 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
         skipped = [f'"{ob.name}" skipped: not in the view layer (its collection is excluded)'
                    for ob in meshes if ob not in drawn]
         meshes = [ob for ob in meshes if ob in drawn]
-    if depsgraph is None:
-        empty = {ob: "no faces" for ob in meshes if not len(ob.data.polygons)}
-    else:
-        from .. import lod
+    from .. import lod
 
-        empty = {ob: why for ob in meshes if (why := lod.nothing_to_simplify(ob, depsgraph, use_modifiers))}
+    operands = lod.boolean_operands(scene.objects)
+    if depsgraph is None:
+        empty = {ob: why for ob in meshes
+                 if (why := lod.helper_role(ob, operands) or (None if len(ob.data.polygons) else "no faces"))}
+    else:
+        empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, operands))}
     with_faces = [ob for ob in meshes if ob not in empty]
     if not with_faces:
-        raise InputError("no mesh objects with faces" if meshes else "no mesh objects")
+        if not meshes:
+            raise InputError("no mesh objects")
+        raise InputError("no mesh objects to simplify: "
+                         + "; ".join(f'"{ob.name}": {why}' for ob, why in empty.items()))
     skipped += [f'"{ob.name}" skipped: {why}' for ob, why in empty.items()]
     return with_faces, skipped
 

@@ -14,10 +14,14 @@ from addon.pure._core import core
 from scene_tools import mesh_hash, remove_all_objects
 
 
-def build(painted: bool = False, masked: bool = False) -> list:
+def build(painted: bool = False, masked: bool = False, helpers: bool = False) -> list:
     """The asset's objects; ``painted``: the hull's top (z > 1) painted 1 in a vertex group
     "Face", fading to 0 at z = 0.4 (a region a painted limit holds); ``masked``: also a cube
-    "Masked" whose Mask modifier (an empty vertex group) leaves no faces."""
+    "Masked" whose Mask modifier (an empty vertex group) leaves no faces; ``helpers``: also
+    what a hard-surface or engine file keeps beside its parts, all selected: a cylinder
+    "Cutter" that a Boolean modifier of the hull cuts a hole with (shown as a wire, as
+    cutters are, but not disabled in renders), a box "Proxy" disabled in renders and a box
+    "UCX_Hull" (a collision mesh by Unreal's naming)."""
     remove_all_objects()
     for me in list(bpy.data.meshes):
         bpy.data.meshes.remove(me)
@@ -40,6 +44,18 @@ def build(painted: bool = False, masked: bool = False) -> list:
     bpy.ops.mesh.primitive_plane_add(size=0.3, location=(0.0, 2.05, 0.0))
     decal = bpy.context.active_object
     decal.name = "Decal"
+    if helpers:
+        bpy.ops.mesh.primitive_cylinder_add(vertices=16, radius=0.3, depth=6.0)
+        cutter = bpy.context.active_object
+        cutter.name, cutter.display_type = "Cutter", 'WIRE'
+        hole = hull.modifiers.new("Hole", 'BOOLEAN')
+        hole.object, hole.operation = cutter, 'DIFFERENCE'
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, -4.0, 0.0))
+        proxy = bpy.context.active_object
+        proxy.name, proxy.hide_render = "Proxy", True
+        bpy.ops.mesh.primitive_cube_add(size=4.0)
+        bpy.context.active_object.name = "UCX_Hull"
+        return [hull, bolt, other, decal, cutter, proxy, bpy.context.active_object]
     if not masked:
         return [hull, bolt, other, decal]
     bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, -3.0, 0.0))
@@ -55,12 +71,24 @@ def triangles(ob) -> int:
     return len(ob.data.loop_triangles)
 
 
-def run_job(painted: bool = False, masked: bool = False, **settings) -> dict:
-    objects = build(painted, masked)
+def drawn_triangles(ob) -> int:
+    """The triangles of ``ob``'s evaluated mesh (through its modifiers)."""
+    evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        return len(mesh.loop_triangles)
+    finally:
+        evaluated.to_mesh_clear()
+
+
+def run_job(painted: bool = False, masked: bool = False, helpers: bool = False, **settings) -> dict:
+    objects = build(painted, masked, helpers)
     names = [ob.name for ob in objects]
     hashes = {ob.name: mesh_hash(ob.data) for ob in objects}
     source_triangles = {ob.name: triangles(ob) for ob in objects}
-    out = {"names": names, "source_triangles": source_triangles}
+    out = {"names": names, "source_triangles": source_triangles,
+           "drawn_triangles": {ob.name: drawn_triangles(ob) for ob in objects}}
     try:
         job = job_mod.LodJob(bpy.context, objects, lod.LodSettings(**settings))
         out["together"] = job.together()
@@ -139,4 +167,7 @@ def run() -> dict:
                                 limit_distance=0.1, limit_unit='PIXELS'),
         # A cube whose Mask modifier leaves no faces: the asset goes on without it.
         "masked": run_job(masked=True, ratios=(0.5, 0.25, 0.125), measure_deviation=False),
+        # A Boolean cutter, a box disabled in renders and a collision box, selected with
+        # the parts: the asset goes on without them.
+        "helpers": run_job(helpers=True, ratios=(0.5, 0.25, 0.125), measure_deviation=False),
     }

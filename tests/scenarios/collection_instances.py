@@ -3,7 +3,8 @@ that are collection instances: a cube "Base" with a Subdivision Surface, the col
 "Bolts" (excluded from the view layer, as a kitbash library is) holding the UV sphere
 "Bolt", and three empties instancing it at their own places, one of them scaled.
 ``shared_out``: one monkey mesh drawn by three objects: "Right", "Left" mirrored (scale
-x -1) and "Tall" (scale z 4), and a cube "Masked" whose Mask modifier leaves no faces."""
+x -1) and "Tall" (scale z 4), a cube "Masked" whose Mask modifier leaves no faces, a
+cylinder "Cutter" its Boolean modifier cuts with and a box "UCX_Right" (a collision mesh)."""
 import bpy
 
 from scene_tools import remove_all_objects
@@ -55,5 +56,14 @@ def run(blend_out: str, shared_out: str = "") -> dict:
         cube.name = "Masked"
         cube.vertex_groups.new(name="Nothing")
         cube.modifiers.new("Mask", 'MASK').vertex_group = "Nothing"
+        # What a hard-surface or engine file keeps beside its parts: a Boolean cutter (of
+        # the cube: the monkeys stay one mesh drawn three times) and a collision box.
+        bpy.ops.mesh.primitive_cylinder_add(radius=0.1, depth=1.0, location=(0.0, -3.0, 0.0))
+        cutter = bpy.context.active_object
+        cutter.name, cutter.display_type = "Cutter", 'WIRE'
+        hole = cube.modifiers.new("Hole", 'BOOLEAN')
+        hole.object = cutter
+        bpy.ops.mesh.primitive_cube_add(size=3.0, location=(1.5, 0.0, 0.0))
+        bpy.context.active_object.name = "UCX_Right"
         bpy.ops.wm.save_as_mainfile(filepath=shared_out)
     return made
