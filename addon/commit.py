@@ -147,7 +147,8 @@ def _build(outputs: list, names: list, group_names: dict) -> list:
                 if new:  # both are the mesh's (vertex group names too, since Blender 3.0)
                     mesh_io.add_vertex_groups(lod, level)
                     mesh_io.add_shape_keys(lod, level)
-                    animation.copy_animation(source.data.shape_keys, mesh.shape_keys)
+                    animation.copy_animation(getattr(source.data, "shape_keys", None) if source.type == 'MESH'
+                                             else None, mesh.shape_keys)
                 _copy_setup(source, lod, k, mesh_too=new)
                 animation.copy_animation(source, lod)
     except BaseException:

@@ -26,7 +26,7 @@ def source_of(ob):
     if ob is None or ob.type != 'MESH' or LEVEL_PROP not in ob:
         return None
     source = bpy.data.objects.get(ob.get(SOURCE_PROP, ""))
-    return source if source is not None and source.type == 'MESH' else None
+    return source if mesh_io.draws_geometry(source) else None
 
 
 def blocker(context):

@@ -44,21 +44,24 @@ from .pure.skin_fit import CHECK_POSES
 
 
 def check_source(source) -> None:
-    """LodError unless ``source`` is a mesh object in Object Mode (prepare's first checks)."""
-    if source is None or getattr(source, "type", None) != 'MESH':
+    """LodError unless ``source`` is a mesh object, or one that evaluates to a mesh (a
+    curve, text, surface or metaball: mesh_io.GEOMETRY_TYPES), in Object Mode
+    (prepare's first checks)."""
+    if source is None or not mesh_io.draws_geometry(source):
         name = getattr(source, "name", source)
-        raise LodError(f'"{name}" is not a mesh object')
+        raise LodError(f'"{name}" is not a mesh object (nor a curve, text, surface or metaball)')
     if source.mode == 'EDIT':
         raise LodError(f'"{source.name}" is in Edit Mode: switch to Object Mode first')
 
 
 def faces_to_read(source, depsgraph, use_modifiers: bool) -> int:
-    """The faces prepare() would read from the mesh object ``source``: its evaluated
-    mesh's, through its modifiers (a Mask or Boolean can leave none), or its own mesh's
-    with ``use_modifiers`` off. Cheap: nothing is read."""
-    if not use_modifiers or not mesh_io.has_geometry_modifiers(source):
+    """The faces prepare() would read from the object ``source``: its evaluated mesh's,
+    through its modifiers (a Mask or Boolean can leave none), or its own mesh's with
+    ``use_modifiers`` off; a curve's, text's, surface's or metaball's as it evaluates.
+    Cheap for a mesh: nothing is read."""
+    if source.type == 'MESH' and (not use_modifiers or not mesh_io.has_geometry_modifiers(source)):
         return len(source.data.polygons)
-    return len(source.evaluated_get(depsgraph).data.polygons)
+    return mesh_io.evaluated_faces(source, depsgraph)
 
 
 def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]:
@@ -66,6 +69,10 @@ def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]
     name in the notes of an asset that goes on without it), or None."""
     if faces_to_read(source, depsgraph, use_modifiers):
         return None
+    if source.type in ('CURVE', 'FONT'):
+        return "its curve makes no faces (no bevel, extrusion or fill)"
+    if source.type == 'META':
+        return "no faces (a metaball's family is drawn by its first object)"
     if use_modifiers and mesh_io.has_geometry_modifiers(source) and len(source.data.polygons):
         return "its modifiers leave no faces"
     return "no faces"

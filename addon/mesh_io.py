@@ -143,6 +143,30 @@ def _base_shape_keys(mesh, data: MeshData) -> None:
     data.basis_name, data.shape_use_relative, data.shape_keys = read_shape_keys(mesh)
 
 
+# Object types Blender draws as a mesh: curves with a bevel or extrusion (cables, pipes,
+# trims), text, NURBS surfaces and metaballs evaluate to one, and the glTF and FBX
+# exporters write them as meshes. A LOD of one is a mesh object.
+GEOMETRY_TYPES = frozenset({'MESH', 'CURVE', 'FONT', 'SURFACE', 'META'})
+
+
+def draws_geometry(obj) -> bool:
+    """Whether ``obj`` is a mesh object or one that evaluates to a mesh (GEOMETRY_TYPES)."""
+    return getattr(obj, "type", None) in GEOMETRY_TYPES
+
+
+def evaluated_faces(obj, depsgraph) -> int:
+    """The faces of ``obj``'s evaluated mesh (a curve without bevel or extrusion has none;
+    a metaball's family is drawn by its first object alone)."""
+    evaluated = obj.evaluated_get(depsgraph)
+    if obj.type == 'MESH':
+        return len(evaluated.data.polygons)
+    mesh = evaluated.to_mesh()
+    try:
+        return len(mesh.polygons) if mesh is not None else 0
+    finally:
+        evaluated.to_mesh_clear()
+
+
 def deforming_armature_modifiers(obj) -> list:
     """The object's enabled Armature modifiers that point at an armature."""
     return [md for md in obj.modifiers if md.type == 'ARMATURE' and md.object is not None and md.show_viewport]
@@ -167,7 +191,7 @@ def _rest_state(obj):
     try:
         for md, _ in saved_mods:
             md.show_viewport = False
-        if obj.data.shape_keys is not None:
+        if getattr(obj.data, "shape_keys", None) is not None:
             obj.show_only_shape_key = True
             obj.active_shape_key_index = 0
         yield
@@ -186,8 +210,24 @@ def read_object(obj: bpy.types.Object, depsgraph, use_modifiers: bool = True,
     modifiers: the LOD is skinned again by its own); False reads the base mesh. Shape
     keys are carried as offsets; through modifiers each key is evaluated on its own, so
     they survive topology-changing modifiers such as Subdivision Surface.
+    A curve, text, surface or metaball object (GEOMETRY_TYPES) is read as it evaluates,
+    its modifiers included whatever ``use_modifiers`` says (it has no mesh of its own);
+    its shape keys move curve points, not the mesh's vertices, and are not carried.
     """
     warnings = []
+    if obj.type != 'MESH':
+        if getattr(obj.data, "shape_keys", None) is not None:
+            warnings.append("its shape keys are not carried: they move the curve's points, not a mesh's vertices")
+        with _rest_state(obj):
+            depsgraph.update()
+            evaluated = obj.evaluated_get(depsgraph)
+            mesh = evaluated.to_mesh(preserve_all_data_layers=True, depsgraph=depsgraph)
+            try:
+                data = read_mesh(mesh, group_method=group_method, group_names=evaluated.vertex_groups.keys())
+            finally:
+                evaluated.to_mesh_clear()
+        depsgraph.update()
+        return data, warnings
     if not use_modifiers or not has_geometry_modifiers(obj):
         data = read_mesh(obj.data, group_method=group_method, group_names=obj.vertex_groups.keys())
         _base_shape_keys(obj.data, data)

@@ -14,7 +14,7 @@ import numpy as np
 
 import bpy
 
-from . import deviation_view, lod_objects, object_importance, vertex_groups
+from . import deviation_view, lod_objects, mesh_io, object_importance, vertex_groups
 from .pure.importance import expected_gain
 from .job import LodJob
 from .pure.settings import LodCancelled, LodError, LodSettings
@@ -31,9 +31,11 @@ def scene_settings(context):
 
 
 def selected_meshes(context) -> list:
-    """Selected mesh objects, except LODs made by an earlier run (they would be replaced
+    """Selected mesh objects (and curves, text, surfaces and metaballs, which draw one:
+    mesh_io.GEOMETRY_TYPES), except LODs made by an earlier run (they would be replaced
     while being read; a source selected together with its LODs is the usual case)."""
-    return [ob for ob in context.selected_objects if ob.type == 'MESH' and lod_objects.LEVEL_PROP not in ob]
+    return [ob for ob in context.selected_objects
+            if mesh_io.draws_geometry(ob) and lod_objects.LEVEL_PROP not in ob]
 
 
 def _generate_blocker(context):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bpy
 
+from . import mesh_io
 from .pure.settings import PRESERVE_PAIRS, LodSettings
 from .pure.importance import expected_gain, pose_weight
 from .operators import (
@@ -66,7 +67,7 @@ class VIEW3D_PT_line_quadric_lod(bpy.types.Panel):
         settings = context.scene.line_quadric_lod
         ob = context.active_object
         is_mesh = ob is not None and ob.type == 'MESH'
-        if not is_mesh:
+        if not mesh_io.draws_geometry(ob):  # curves, text and the like draw a mesh, and get LODs
             layout.label(text="Select a mesh object", icon='INFO')
 
         box = layout.box()

@@ -168,3 +168,31 @@ def test_an_asset_of_one_mesh_drawn_three_times_splits_its_budget_over_the_copie
     assert sorted(objects) == ["Left", "Right", "Tall"]
     assert len({tuple(lv["mesh"] for lv in o["levels"]) for o in objects.values()}) == 1
     assert len([n for n in collection_cli["shared_glb"]["nodes"] if "MSFT_lod" in n.get("extensions", {})]) == 1
+
+
+def test_curves_and_text_switch_with_the_asset_in_the_glb(tmp_path):
+    """A bevelled cable and an extruded logo beside a monkey (tests/scenarios/
+    addon_curve_parts.py's scene): the .glb has one MSFT_lod whose every level holds their
+    LOD meshes too; a curve that draws no faces is skipped with a note. Before, only the
+    monkey had levels, and the cable and logo were written whole beside every level."""
+    blend = tmp_path / "curves.blend"
+    run_scenario("addon_curve_parts", {"blend_out": str(blend)}, user_dir=tmp_path / "user", install=False)
+    out, report = tmp_path / "curves.glb", tmp_path / "report.json"
+    env = {**os.environ, **isolated_blender_env(tmp_path / "user")}
+    proc = subprocess.run([sys.executable, str(REPO_ROOT), "--input", str(blend), "--ratios", "0.5", "0.25",
+                           "--output", str(out), "--report", str(report)],
+                          capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    entry = json.loads(report.read_text())["files"][0]
+    assert sorted(o["object"] for o in entry["objects"]) == ["Cable", "Logo", "Monkey"]
+    assert any(w.startswith('"Guide" skipped: its curve makes no faces') for w in entry["warnings"]), entry["warnings"]
+    gltf = glb_json(out)
+    tops = [n for n in gltf["nodes"] if "MSFT_lod" in n.get("extensions", {})]
+    assert len(tops) == 1, [n["name"] for n in tops]
+    for k, node in enumerate(tops[0]["extensions"]["MSFT_lod"]["ids"], start=1):
+        children = sorted(gltf["nodes"][c]["name"] for c in gltf["nodes"][node]["children"])
+        assert children == [f"Cable_LOD{k}", f"Logo_LOD{k}", f"Monkey_LOD{k}"], children
+    # Nothing of the parts is drawn outside the asset's levels.
+    in_levels = {c for n in gltf["nodes"] for c in n.get("children", ())}
+    roots = [n["name"] for i, n in enumerate(gltf["nodes"]) if i not in in_levels]
+    assert len(roots) == 1 + len(tops[0]["extensions"]["MSFT_lod"]["ids"]) + 1, roots  # the levels and Guide

@@ -8,6 +8,7 @@ rather than failing its input.
 from __future__ import annotations
 
 from .. import lod_objects
+from .. import mesh_io
 from .. import rig
 from .errors import InputError
 
@@ -65,7 +66,8 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
-    meshes = [ob for ob in scene.objects if ob.type == 'MESH' and lod_objects.LEVEL_PROP not in ob and ob not in widgets]
+    meshes = [ob for ob in scene.objects
+              if mesh_io.draws_geometry(ob) and lod_objects.LEVEL_PROP not in ob and ob not in widgets]
     drawn = None if view_layer is None else set(view_layer.objects)
     if names:
         problems, picked = [], []
@@ -74,7 +76,7 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
             if ob is None:
                 available = ", ".join(sorted(o.name for o in meshes)[:12]) or "none"
                 problems.append(f'object "{name}" not found (mesh objects: {available})')
-            elif ob.type != 'MESH':
+            elif not mesh_io.draws_geometry(ob):
                 problems.append(f'"{name}" is not a mesh object (its type is {ob.type})')
             elif lod_objects.LEVEL_PROP in ob:
                 problems.append(f'"{name}" is a LOD made by an earlier run, not a source')
@@ -93,7 +95,8 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
     operands = lod.boolean_operands(scene.objects)
     if depsgraph is None:
         empty = {ob: why for ob in meshes
-                 if (why := lod.helper_role(ob, operands) or (None if len(ob.data.polygons) else "no faces"))}
+                 if (why := lod.helper_role(ob, operands)
+                         or (None if ob.type != 'MESH' or len(ob.data.polygons) else "no faces"))}
     else:
         empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, operands))}
     with_faces = [ob for ob in meshes if ob not in empty]
