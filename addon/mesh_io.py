@@ -16,7 +16,13 @@ import bpy
 from .pure import edges as edge_util
 from . import vertex_groups
 # The arrays themselves are bpy-free (mesh_data.py); named here as always.
-from .pure.mesh_data import ColorLayer, MeshData, ShapeKeyData  # noqa: F401
+from .pure.mesh_data import ATTRIBUTE_TYPES, AttributeLayer, ColorLayer, MeshData, ShapeKeyData  # noqa: F401
+
+# Attributes that MeshData's own fields carry (positions, materials, smoothing, sharp
+# edges, custom normals), besides UV maps and colour attributes (read by name); names
+# starting with "." are Blender's internal ones (selection, hiding, UV pins).
+_OWN_ATTRIBUTES = frozenset({"position", "material_index", "sharp_face", "sharp_edge", "custom_normal"})
+_DOMAINS = ('POINT', 'EDGE', 'FACE', 'CORNER')
 
 
 def _get(collection, prop, count, dtype, width=1):
@@ -81,6 +87,8 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", group_names=N
     seam_edges = edge_verts[seam]
     seam_region = edge_util.face_regions(tris, seam_edges) if len(seam_edges) else None
 
+    attributes = _read_attributes(mesh, tri_poly, tri_loops, edge_verts)
+
     names = vertex_groups.group_names(mesh) if group_names is None else list(group_names)
     weights = vertex_groups.read_weights(mesh, names, method=group_method, all_names=names) \
         if names else np.zeros((n, 0))
@@ -97,6 +105,7 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", group_names=N
         uv_active=uv_active,
         uv_render=uv_render,
         colors=colors,
+        attributes=attributes,
         color_active=mesh.color_attributes.active_color_name or None,
         color_render=getattr(mesh.color_attributes, "default_color_name", None) or None,
         group_names=names,
@@ -106,6 +115,52 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", group_names=N
         seam_edges=seam_edges,
         seam_region=seam_region,
     )
+
+
+def _read_attributes(mesh, tri_poly, tri_loops, edge_verts) -> list:
+    """The mesh's generic attributes (AttributeLayer): every attribute of a type
+    ATTRIBUTE_TYPES knows that is not one of MeshData's own fields, a UV map, a colour
+    attribute or Blender's internal; per triangle and per triangle corner as MeshData
+    holds its faces."""
+    own = _OWN_ATTRIBUTES | set(mesh.uv_layers.keys()) | {
+        a.name for a in mesh.color_attributes if a.domain in ('POINT', 'CORNER')}
+    layers = []
+    for attr in mesh.attributes:
+        kind = ATTRIBUTE_TYPES.get(attr.data_type)
+        if attr.name.startswith(".") or attr.name in own or kind is None or attr.domain not in _DOMAINS:
+            continue
+        prop, width, dtype, _ = kind
+        count = len(attr.data)
+        values = _get(attr.data, prop, count, dtype, width).reshape(count, width)
+        if attr.domain == 'FACE':
+            values = values[tri_poly]
+        elif attr.domain == 'CORNER':
+            values = values[tri_loops]
+        layers.append(AttributeLayer(attr.name, attr.domain, attr.data_type, values,
+                                     edge_verts if attr.domain == 'EDGE' else None))
+    return layers
+
+
+def write_attributes(mesh: bpy.types.Mesh, layers: list) -> None:
+    """``layers`` (AttributeLayer, as MeshData holds them) onto ``mesh``, made by
+    build_mesh: one polygon a triangle, its loops in triangle-corner order, its edges
+    computed. An edge layer's values go to the mesh's edges between its pairs of
+    vertices, the rest get zero. A layer whose name the mesh already uses is left out."""
+    edge_verts = None
+    for layer in layers:
+        if layer.name in mesh.attributes:
+            continue
+        prop, width, dtype, _ = ATTRIBUTE_TYPES[layer.data_type]
+        values = np.asarray(layer.data).reshape(-1, width)
+        if layer.domain == 'EDGE':
+            if edge_verts is None:
+                edge_verts = _get(mesh.edges, "vertices", len(mesh.edges), np.int32, 2).reshape(-1, 2)
+            row = edge_util.edge_index(edge_verts, layer.edges, len(mesh.vertices))
+            full = np.zeros((len(edge_verts), width), dtype=values.dtype)
+            full[row >= 0] = values[row[row >= 0]]
+            values = full
+        attr = mesh.attributes.new(layer.name, layer.data_type, layer.domain)
+        attr.data.foreach_set(prop, values.astype(dtype).reshape(-1))
 
 
 def _shape_key_meta(block, offsets) -> ShapeKeyData:
@@ -307,6 +362,7 @@ def build_mesh(name: str, data: MeshData) -> bpy.types.Mesh:
         if data.color_render and data.color_render in mesh.color_attributes and hasattr(
                 mesh.color_attributes, "default_color_name"):
             mesh.color_attributes.default_color_name = data.color_render
+        write_attributes(mesh, data.attributes)
         write_point_floats(mesh, data.point_floats)
         for key, value in data.mesh_properties.items():
             mesh[key] = value

@@ -61,6 +61,20 @@ def test_chains_through_removed_vertices_join_the_kept_ends():
     assert edges.chains_through(np.empty((0, 2)), kept).shape == (0, 2)
 
 
+def test_chains_through_names_each_chains_first_edge_and_edge_index_finds_rows():
+    e = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [2, 5], [6, 7], [7, 8], [8, 6]])
+    kept = np.zeros(9, dtype=bool)
+    kept[[0, 2, 3, 4, 5, 6, 8]] = True
+    pairs, first = edges.chains_through(e, kept, with_edges=True)
+    assert pairs.tolist() == edges.chains_through(e, kept).tolist()
+    for (a, b), i in zip(pairs, first):  # the first edge leaves one end of its chain
+        assert a in e[i] or b in e[i], (a, b, e[i])
+    assert first[pairs.tolist().index([0, 2])] in (0, 1)
+    rows = edges.edge_index(np.array([[2, 1], [4, 3], [0, 4], [6, 8]]), e, 9)
+    assert rows.tolist() == [1, 3, -1, 7]
+    assert edges.edge_index(np.empty((0, 2)), e, 9).shape == (0,)
+
+
 def test_importance_scales_the_quadric_by_a_rising_factor():
     g = np.array([0.0, 0.5, 1.0])
     factors = [importance.controls(g, 1e-3, s)["quadric_scale"] for s in (0.0, 0.1, 0.25, 0.5, 0.75, 1.0)]

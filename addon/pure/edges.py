@@ -96,6 +96,21 @@ def _corner_jumps(faces, corner_values, tol) -> tuple:
     return edges, jump
 
 
+def edge_index(mesh_edges: np.ndarray, pairs: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(E,) for each edge of ``mesh_edges`` (E, 2), the row of ``pairs`` (k, 2) that is the
+    same undirected edge (the last such row), or -1."""
+    me = np.asarray(mesh_edges, dtype=np.int64).reshape(-1, 2)
+    if len(me) == 0 or len(pairs) == 0:
+        return np.full(len(me), -1, dtype=np.int64)
+    keys = edge_keys(pairs, n_vertices)
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    wanted = edge_keys(me, n_vertices)
+    at = np.minimum(np.searchsorted(sorted_keys, wanted, side="right") - 1, len(keys) - 1)
+    hit = (at >= 0) & (sorted_keys[np.maximum(at, 0)] == wanted)
+    return np.where(hit, order[np.maximum(at, 0)], -1)
+
+
 def unique_edges(pairs: np.ndarray) -> np.ndarray:
     """Undirected edges, each once, as (min, max) rows sorted by key."""
     p = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
@@ -147,9 +162,10 @@ def face_regions(faces: np.ndarray, cut_edges: np.ndarray) -> np.ndarray:
     return core.topology.connected_labels(m, fa, fb)
 
 
-def chains_through(edges: np.ndarray, kept: np.ndarray) -> np.ndarray:
+def chains_through(edges: np.ndarray, kept: np.ndarray, with_edges: bool = False):
     """Where chains of ``edges`` (k, 2) run between ``kept`` vertices ((n,) bool) through
-    vertices that are gone: (j, 2) pairs of kept vertices, each pair once.
+    vertices that are gone: (j, 2) pairs of kept vertices, each pair once; with
+    ``with_edges`` also (j,) the index into ``edges`` of a chain's first edge.
 
     A LOD keeps a source's sharp edge chain as an edge between two of its surviving
     vertices after the ones between them collapsed; following each chain from a kept
@@ -158,7 +174,7 @@ def chains_through(edges: np.ndarray, kept: np.ndarray) -> np.ndarray:
     directed edges, so no loop runs per edge."""
     e = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     if len(e) == 0:
-        return e
+        return (e, np.empty(0, dtype=np.int64)) if with_edges else e
     kept = np.asarray(kept, dtype=bool)
     tail, head = np.concatenate([e[:, 0], e[:, 1]]), np.concatenate([e[:, 1], e[:, 0]])
     h = len(tail)
@@ -175,7 +191,11 @@ def chains_through(edges: np.ndarray, kept: np.ndarray) -> np.ndarray:
         ptr = ptr[ptr]
     end = head[ptr]
     ok = kept[tail] & kept[end] & ~through[ptr] & (end != tail)
-    return unique_edges(np.stack([tail[ok], end[ok]], axis=1))
+    if not with_edges:
+        return unique_edges(np.stack([tail[ok], end[ok]], axis=1))
+    pairs = np.sort(np.stack([tail[ok], end[ok]], axis=1), axis=1)
+    pairs, first = np.unique(pairs, axis=0, return_index=True)
+    return pairs, np.flatnonzero(ok)[first] % len(e)
 
 
 def mark_edges(mesh_edges: np.ndarray, wanted: np.ndarray, n_vertices: int) -> np.ndarray:

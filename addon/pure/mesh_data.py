@@ -23,6 +23,48 @@ class ColorLayer:
 
 
 @dataclass
+class AttributeLayer:
+    """A generic attribute of the mesh (an artist's, a Geometry Nodes output, a glTF
+    importer's custom one; what the other fields hold is not one), carried to the LODs.
+
+    ``domain`` and ``data_type`` are Blender's. ``data``, with the attribute's values
+    last (width 1 for a single value): (n, w) per vertex for 'POINT', (m, w) per
+    triangle for 'FACE', (m, 3, w) per triangle corner for 'CORNER', and for 'EDGE'
+    (k, w) per edge of ``edges`` (k, 2) vertex pairs."""
+
+    name: str
+    domain: str
+    data_type: str
+    data: np.ndarray
+    edges: Optional[np.ndarray] = None
+
+
+# How each kind of attribute is read, written and carried: Blender's data type ->
+# (the foreach_get/foreach_set property, values per element, NumPy type, interpolated).
+# Interpolated values follow a collapse as UVs and shape keys do (a painted wear mask, a
+# wind weight); the others (ids, flags, rotations and matrices, which a mean would not
+# keep valid) take the value of the vertex, face or corner each LOD element came from.
+ATTRIBUTE_TYPES = {
+    'FLOAT': ("value", 1, np.float32, True),
+    'FLOAT2': ("vector", 2, np.float32, True),
+    'FLOAT_VECTOR': ("vector", 3, np.float32, True),
+    'FLOAT_COLOR': ("color", 4, np.float32, True),
+    'BYTE_COLOR': ("color", 4, np.float32, True),
+    'QUATERNION': ("value", 4, np.float32, False),
+    'FLOAT4X4': ("value", 16, np.float32, False),
+    'INT': ("value", 1, np.int32, False),
+    'INT8': ("value", 1, np.int32, False),
+    'INT32_2D': ("value", 2, np.int32, False),
+    'BOOLEAN': ("value", 1, bool, False),
+}
+
+
+def interpolated(layer: AttributeLayer) -> bool:
+    """Whether ``layer``'s values are interpolated along collapses (ATTRIBUTE_TYPES)."""
+    return ATTRIBUTE_TYPES[layer.data_type][3]
+
+
+@dataclass
 class ShapeKeyData:
     """A shape key as offsets from the basis, plus the settings the LOD copies."""
 
@@ -45,6 +87,7 @@ class MeshData:
     Per triangle: faces (m, 3), material_index, smooth, smooth_group (the input's
     smoothing region, so the LOD splits normals where the source did).
     Per triangle corner (m, 3, k): UV maps, corner colours.
+    Any domain: ``attributes``, the mesh's other attributes (AttributeLayer).
     Edges as (k, 2) vertex pairs: sharp_edges, seam_edges; seam_region labels the
     triangles by the regions the seams cut the surface into (so the LOD's seams can be
     marked where the source's were).
@@ -59,6 +102,7 @@ class MeshData:
     uv_active: Optional[str] = None
     uv_render: Optional[str] = None
     colors: list = field(default_factory=list)
+    attributes: list = field(default_factory=list)  # AttributeLayer
     color_active: Optional[str] = None
     color_render: Optional[str] = None
     group_names: list = field(default_factory=list)

@@ -13,7 +13,7 @@ import numpy as np
 from ._core import core
 from . import edges as edge_util
 from . import importance as imp
-from .mesh_data import MeshData
+from .mesh_data import MeshData, interpolated
 from .settings import PRESERVE_PAIRS, SETTINGS, CoreOption
 
 # The Preserve switch each strength belongs to (a CoreOption's ``off`` applies while it is off).
@@ -33,6 +33,15 @@ def core_options_of(settings) -> core.Options:
         else:
             fields[s.core.field] = s.core.convert(getattr(settings, s.name))
     return core.Options.of(**fields)
+
+
+def interpolated_attributes(data: MeshData) -> dict:
+    """{"attr<i>": data.attributes[i]} of the generic attributes the core interpolates
+    along its collapses (mesh_data.ATTRIBUTE_TYPES): those on points and corners of a
+    float type with finite values (a NaN would fail the core's checks; such a layer is
+    carried as ids are, rebuild.carried_attribute)."""
+    return {f"attr{i}": layer for i, layer in enumerate(data.attributes)
+            if layer.domain in ('POINT', 'CORNER') and interpolated(layer) and np.isfinite(layer.data).all()}
 
 
 def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.ndarray] = None,
@@ -67,6 +76,12 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
             # and in an asset six such gems kept all 320 of their triangles at LOD1 while
             # a rounded cube beside them went from 3,072 to 576 (to 4 at LOD2). Carried
             # like the custom normals below: each side keeps its own colours.
+            seamless.append(key)
+    for key, layer in interpolated_attributes(data).items():
+        if layer.domain == 'POINT':
+            vattr[key] = layer.data
+        else:  # an artist's data, not a seam to keep: carried as custom normals are
+            cattr[key] = layer.data
             seamless.append(key)
     for i, sk in enumerate(data.shape_keys):
         vattr[f"shape{i}"] = sk.offsets

@@ -12,7 +12,8 @@ import numpy as np
 
 from ._core import core
 from . import edges as edge_util
-from .mesh_data import ColorLayer, MeshData
+from .mesh_data import AttributeLayer, ColorLayer, MeshData
+from .options import interpolated_attributes
 
 
 def sharp_chains(data: MeshData, result) -> np.ndarray:
@@ -51,6 +52,9 @@ def lod_mesh(data: MeshData, result, names, hard_edge_angle: float = 0.0) -> Mes
     ]
     uv_maps = {uv_name: ca[f"uv{i}"] for i, uv_name in enumerate(data.uv_maps)}
     shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
+    carried = interpolated_attributes(data)
+    attributes = [carried_attribute(data, result, layer, f"attr{i}" in carried and f"attr{i}")
+                  for i, layer in enumerate(data.attributes)]
     smooth_group = data.smooth_group[fo]
     faces = result.faces
     # Normals split where the source's did: between faces of different smoothing regions,
@@ -94,6 +98,7 @@ def lod_mesh(data: MeshData, result, names, hard_edge_angle: float = 0.0) -> Mes
         uv_active=data.uv_active,
         uv_render=data.uv_render,
         colors=colors,
+        attributes=attributes,
         color_active=data.color_active,
         color_render=data.color_render,
         group_names=list(data.group_names),
@@ -106,6 +111,49 @@ def lod_mesh(data: MeshData, result, names, hard_edge_angle: float = 0.0) -> Mes
         seam_region=data.seam_region[fo] if data.seam_region is not None else None,
         custom_normals=_unit(ca["normal"]) if "normal" in ca else None,
     )
+
+
+def carried_attribute(data: MeshData, result, layer: AttributeLayer, key) -> AttributeLayer:
+    """The LOD's values of the source's generic attribute ``layer``: what the core
+    interpolated for it (``key``: its name in the result's attributes, or False), else the
+    value of the element each LOD element came from: a face's from its source face, a
+    vertex's from its source vertex, a corner's from origin_corners, an edge's from the
+    source edge between its ends' source vertices, or else from the first edge of a chain
+    of source edges with values that ran between them through vertices the LOD lost (a
+    crease along a kept feature, as sharp_chains); other LOD edges get zero."""
+    if key:
+        values = (result.vertex_attributes if layer.domain == 'POINT' else result.corner_attributes)[key]
+        return dataclasses.replace(layer, data=values)
+    if layer.domain == 'FACE':
+        return dataclasses.replace(layer, data=layer.data[result.face_origin])
+    if layer.domain == 'POINT':
+        return dataclasses.replace(layer, data=layer.data[result.vertex_origin])
+    if layer.domain == 'CORNER':
+        width = layer.data.shape[-1]
+        return dataclasses.replace(layer, data=layer.data.reshape(-1, width)[origin_corners(data, result)])
+    n = len(data.vertices)
+    lod_edges = edge_util.unique_edges(result.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2))
+    row = edge_util.edge_index(result.vertex_origin[lod_edges], layer.edges, n)
+    marked = np.flatnonzero(np.any(layer.data != 0, axis=1))
+    kept = np.zeros(n, dtype=bool)
+    kept[result.vertex_origin] = True
+    pairs, first = edge_util.chains_through(layer.edges[marked], kept, with_edges=True)
+    chain = edge_util.edge_index(result.vertex_origin[lod_edges], pairs, n)
+    row = np.where((row < 0) & (chain >= 0), marked[first[np.maximum(chain, 0)]], row)
+    return dataclasses.replace(layer, data=layer.data[row[row >= 0]], edges=lod_edges[row >= 0])
+
+
+def origin_corners(data: MeshData, result) -> np.ndarray:
+    """(m_out, 3) for each LOD triangle corner, the source triangle corner (an index into
+    the flattened (m, 3) corners) it came from: the corner of the triangle its face came
+    from (result.face_origin) at the vertex its vertex came from (result.vertex_origin),
+    else that triangle's corner nearest to it."""
+    source = np.asarray(data.faces)[result.face_origin]  # (m_out, 3) source vertex ids
+    origin = result.vertex_origin[result.faces]  # (m_out, 3)
+    gap = np.linalg.norm(np.asarray(data.vertices)[source][:, None, :, :]
+                         - np.asarray(result.vertices)[result.faces][:, :, None, :], axis=-1)
+    gap[source[:, None, :] == origin[:, :, None]] = -1.0
+    return result.face_origin[:, None] * 3 + np.argmin(gap, axis=2)
 
 
 def _unit(vectors: np.ndarray) -> np.ndarray:
