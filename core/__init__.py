@@ -42,6 +42,7 @@ from . import shading  # shading normals and their deviation (addon/pure/measure
 from . import budget  # one triangle budget for many parts, split by error (addon/asset.py)
 from . import assembly  # many parts in one run, and its results split back (addon/job.py)
 from . import skinning  # posed error and fitted weights for skinned LODs (addon/rig.py, addon/pure/skin_fit.py)
+from . import weld  # welding coincident vertices as a run does (addon/pure/edges.py's welded_faces)
 
 __all__ = [
     "Options",

@@ -209,3 +209,24 @@ def test_a_colour_or_uv_per_facet_is_carried_without_making_seams():
             assert (key in options.seamless_attributes) == seamless, key
             assert key in options.corner_attributes
         assert options.uv_attributes == ("uv0",)
+
+
+def test_a_uv_or_colour_per_facet_of_a_split_mesh_is_seen_as_the_core_welds_it():
+    """An exported mesh comes split: each triangle of a glTF import with an island per
+    face has vertices of its own, so no two triangles share an edge until the core welds
+    the copies. Judged on the split triangles, such a map was no facet layer: the core
+    then made every vertex a seam junction, locked, and six such gems beside a cube
+    held the cube's share until it went to 4 triangles (LOD3, 13.9 % of the asset's
+    diagonal against 0.56 % for the same scene as a .blend)."""
+    from addon.pure.mesh_data import ColorLayer
+    from addon.pure.options import mesh_options
+
+    cube = _sharp_cube(False)
+    cube.vertices = cube.vertices[cube.faces].reshape(-1, 3)  # three copies a triangle
+    cube.faces = np.arange(3 * len(cube.faces)).reshape(-1, 3)
+    per_face = np.repeat(np.random.default_rng(1).random((len(cube.faces), 1, 4)), 3, axis=1)
+    cube.colors = [ColorLayer("Col", 'CORNER', 'FLOAT_COLOR', per_face)]
+    cube.uv_maps = {"UVMap": per_face[..., :2]}
+    options = mesh_options(LodSettings(preserve_seams=False, preserve_materials=False, preserve_sharp=False),
+                           cube, [])[0]
+    assert "color0" in options.seamless_attributes and "uv0" in options.seamless_attributes

@@ -66,6 +66,15 @@ def corner_discontinuous_edges(faces: np.ndarray, corner_values: np.ndarray, tol
     return unique_edges(edges[jump])
 
 
+def welded_faces(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """``faces`` (m, 3) with each vertex replaced by the first vertex at its exact position,
+    as the core welds before simplifying (core.weld.weld_map): an exported mesh is split
+    into copies along its UV seams and hard edges, so its triangles there are neighbours,
+    and its attributes' jumps between them seen, only once welded."""
+    rep = core.weld.weld_map(np.asarray(vertices, dtype=np.float64), None)
+    return rep[np.asarray(faces, dtype=np.int64)]
+
+
 def faceted(faces: np.ndarray, corner_values: np.ndarray, tol: float = 1e-6) -> bool:
     """Whether a per-corner attribute jumps across more than half of the triangle pairs
     of ``faces``: a value per face (a colour per facet, as low-poly exports paint them),

@@ -68,10 +68,14 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
             vattr["groups"] = weights[:, other_cols]
             names["groups"] = other_cols
     seamless = []  # corner attributes carried without making seams (core Options.seamless_attributes)
+    # Corner values are judged on the triangles as the core welds them: an exported mesh's
+    # copies along its seams and hard edges make no triangle pairs until then, so a UV
+    # island or a colour per face of a glTF import was never seen as faceted.
+    welded = edge_util.welded_faces(data.vertices, data.faces)
     for i, layer in enumerate(data.colors):
         key = f"color{i}"
         (vattr if layer.domain == 'POINT' else cattr)[key] = layer.data
-        if layer.domain != 'POINT' and edge_util.faceted(data.faces, layer.data):
+        if layer.domain != 'POINT' and edge_util.faceted(welded, layer.data):
             # A colour per facet: as seams its jumps made every vertex a junction, locked,
             # and in an asset six such gems kept all 320 of their triangles at LOD1 while
             # a rounded cube beside them went from 3,072 to 576 (to 4 at LOD2). Carried
@@ -88,7 +92,7 @@ def mesh_options(settings, data: MeshData, skin_columns: list, g: Optional[np.nd
     for i, (uv_name, corners) in enumerate(data.uv_maps.items()):
         cattr[f"uv{i}"] = corners
         uvs.append(f"uv{i}")
-        if edge_util.faceted(data.faces, corners):
+        if edge_util.faceted(welded, corners):
             seamless.append(f"uv{i}")  # each face its own island (Lightmap Pack): as a colour per facet
     if data.custom_normals is not None:
         # Carried like any corner attribute: a corner keeps (or interpolates) its source
