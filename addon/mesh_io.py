@@ -111,7 +111,7 @@ def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", group_names=N
         group_names=names,
         group_weights=weights,
         sharp_edges=edge_verts[sharp],
-        sharp_everywhere=bool(n_edges and sharp.all()),
+        sharp_for_shading=bool(n_edges and np.count_nonzero(sharp) > 0.5 * n_edges),
         seam_edges=seam_edges,
         seam_region=seam_region,
     )

@@ -174,7 +174,7 @@ def _sharp_cube(everywhere: bool):
     diagonals = np.array([(a, c) for a, b, c, d in quads])
     sharp = np.concatenate([box, diagonals]) if everywhere else box
     return MeshData(vertices=v, faces=f, material_index=np.zeros(len(f), np.int64), smooth=np.zeros(len(f), bool),
-                    smooth_group=np.zeros(len(f), np.int64), sharp_edges=sharp, sharp_everywhere=everywhere)
+                    smooth_group=np.zeros(len(f), np.int64), sharp_edges=sharp, sharp_for_shading=everywhere)
 
 
 def test_sharp_marks_on_every_edge_hold_no_collapse_back():

@@ -111,9 +111,10 @@ class MeshData:
     shape_keys: list = field(default_factory=list)
     shape_use_relative: bool = True
     sharp_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
-    # Every edge of the mesh is marked sharp: shaded flat through its edges (how the OBJ
-    # and FBX importers bring a flat-shaded mesh), the marks single out no crease.
-    sharp_everywhere: bool = False
+    # Most edges of the mesh (more than half) are marked sharp: shaded flat through its
+    # edges (how the OBJ and FBX importers bring a flat-shaded mesh: every edge but those
+    # between coplanar faces), the marks single out no crease.
+    sharp_for_shading: bool = False
     seam_edges: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.int64))
     seam_region: Optional[np.ndarray] = None  # (m,) per triangle: the region between seams
     # (m, 3, 3) unit normal per triangle corner when the mesh has custom split normals
