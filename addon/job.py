@@ -135,8 +135,8 @@ class LodJob:
         self.skipped = []  # notes: '"name" skipped: why'
         if len(objects) > 1:
             scene, depsgraph = mesh_io.scene_and_depsgraph(context)
-            operands = lod.boolean_operands(scene.objects)
-            why = [lod.left_out(ob, depsgraph, s.use_modifiers, operands) for ob, s in zip(objects, per_object)]
+            helpers = lod.scene_helpers(scene.objects)
+            why = [lod.left_out(ob, depsgraph, s.use_modifiers, helpers) for ob, s in zip(objects, per_object)]
             if all(why):
                 raise LodError(f"none of the {len(objects)} objects is a part to simplify: "
                                + "; ".join(f'"{ob.name}": {w}' for ob, w in zip(objects, why)))

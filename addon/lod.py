@@ -21,6 +21,7 @@ objects are built first and linked into the scene only when every one of them ex
 from __future__ import annotations
 
 import dataclasses
+import re
 from typing import Callable, Optional
 
 import numpy as np
@@ -84,33 +85,58 @@ def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]
 COLLISION_PREFIXES = ("UCX_", "UBX_", "USP_", "UCP_")
 
 
-def boolean_operands(objects) -> set:
-    """Names of the objects that a Boolean modifier of one of ``objects`` cuts with or
-    joins (its operand object, or every object of its operand collection), enabled or not."""
-    names = set()
+# A file's own levels of detail, by the naming of Unreal, Unity and asset stores:
+# "Chair_LOD1" (or "Chair LOD1", "Chair.lod1", "ChairLOD1") beside "Chair_LOD0" or "Chair".
+_LOD_NAME = re.compile(r"^(?P<base>.*?)[_. -]?LOD(?P<level>\d+)$", re.IGNORECASE)
+
+
+def scene_helpers(objects) -> dict:
+    """{name: why} of those of ``objects`` (a scene's) that serve another object rather
+    than being a part of what the file draws, found from the objects together:
+      * the operands of Boolean modifiers (an operand object, or every object of an operand
+        collection; enabled or not): what they cut is in the LODs of what they cut;
+      * a file's own lower levels of detail (_LOD_NAME, level 1 and up beside its level 0
+        or its base name): the file's LOD0 is the source, and LODs of its LOD1 beside it
+        would draw the asset twice at every level (an asset-store FBX ships LOD0-LOD3).
+    helper_role adds what an object says of itself."""
+    helpers = {}
     for ob in objects:
         for mod in getattr(ob, "modifiers", ()):
             if mod.type != 'BOOLEAN':
                 continue
             if getattr(mod, "operand_type", 'OBJECT') == 'COLLECTION':
-                if mod.collection is not None:
-                    names.update(o.name for o in mod.collection.all_objects)
-            elif mod.object is not None:
-                names.add(mod.object.name)
-    return names
+                operands = list(mod.collection.all_objects) if mod.collection is not None else []
+            else:
+                operands = [mod.object] if mod.object is not None else []
+            for operand in operands:
+                helpers[operand.name] = ("a Boolean modifier's operand (its shape is already in the object whose "
+                                         "modifier uses it)")
+    named = {}  # (base, level) -> name
+    for ob in objects:
+        match = _LOD_NAME.match(ob.name)
+        if match:
+            named[(match["base"].lower(), int(match["level"]))] = ob.name
+        else:
+            named.setdefault((ob.name.lower(), 0), ob.name)
+    for (base, level), name in named.items():
+        first = named.get((base, 0))
+        if level > 0 and first is not None and name not in helpers:
+            helpers[name] = f'an existing LOD{level} of "{first}" (by its name): "{first}" is the source'
+    return helpers
 
 
-def helper_role(source, operands: set) -> Optional[str]:
+def helper_role(source, helpers: dict) -> Optional[str]:
     """Why the object ``source`` is a helper of the asset rather than a part of what it
-    draws ("skipped: ..." follows its name in the notes), or None. ``operands``: the
-    scene's boolean_operands.
+    draws ("skipped: ..." follows its name in the notes), or None. ``helpers``: the
+    scene's scene_helpers.
 
-    A hard-surface file keeps its Boolean cutters beside the objects they cut, and a file
-    made for an engine its collision meshes: neither is seen in a render, and as parts they
-    took a share of every level's triangle budget, were measured into the asset's
-    distance and got LODs of their own, drawn solid in the written file."""
-    if source.name in operands:
-        return "a Boolean modifier's operand (its shape is already in the object whose modifier uses it)"
+    A hard-surface file keeps its Boolean cutters beside the objects they cut, a file made
+    for an engine its collision meshes and its own LODs: none is a part of the asset's
+    first level, and as parts they took a share of every level's triangle budget, were
+    measured into the asset's distance and got LODs of their own, drawn solid in the
+    written file."""
+    if source.name in helpers:
+        return helpers[source.name]
     if source.hide_render:
         return "disabled in renders"
     if source.name.upper().startswith(COLLISION_PREFIXES):
@@ -118,10 +144,10 @@ def helper_role(source, operands: set) -> Optional[str]:
     return None
 
 
-def left_out(source, depsgraph, use_modifiers: bool, operands: set) -> Optional[str]:
+def left_out(source, depsgraph, use_modifiers: bool, helpers: dict) -> Optional[str]:
     """Why an object of several is not a part of their asset (helper_role, then
     nothing_to_simplify), or None."""
-    return helper_role(source, operands) or nothing_to_simplify(source, depsgraph, use_modifiers)
+    return helper_role(source, helpers) or nothing_to_simplify(source, depsgraph, use_modifiers)
 
 
 def shared_mesh_key(source, settings: LodSettings):

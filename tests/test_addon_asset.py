@@ -210,18 +210,20 @@ def test_a_part_whose_modifiers_leave_no_faces_is_left_out_with_a_note(res):
                                                                     plain["asset"]["levels"]]
 
 
-def test_boolean_cutters_render_disabled_objects_and_collision_meshes_are_not_parts(res):
+def test_boolean_cutters_render_disabled_objects_collision_meshes_and_own_lods_are_not_parts(res):
     """Selected with the parts, a Boolean cutter (a wire cylinder the hull's modifier cuts
-    with), a box disabled in renders and a "UCX_" collision box are left out with a note
-    each: no LODs of their own, no share of the budget, which is what the asset draws (the
-    hull as its Boolean modifier leaves it). Before, they were parts: the cutter took a
-    share of every level and its LODs were drawn solid."""
+    with), a box disabled in renders, a "UCX_" collision box and the file's own "Hull_LOD1"
+    are left out with a note each: no LODs of their own, no share of the budget, which is
+    what the asset draws (the hull as its Boolean modifier leaves it). Before, they were
+    parts: the cutter took a share of every level and its LODs were drawn solid, and an
+    asset-store file's LOD1 and LOD2 got LODs of their own beside its LOD0's."""
     run = res["helpers"]
     assert "error" not in run, run.get("error")
     assert run["skipped"] == [
         '"Cutter" skipped: a Boolean modifier\'s operand (its shape is already in the object whose modifier uses it)',
         '"Proxy" skipped: disabled in renders',
-        '"UCX_Hull" skipped: a collision mesh (Unreal\'s UCX_ naming), which engines take as it is']
+        '"UCX_Hull" skipped: a collision mesh (Unreal\'s UCX_ naming), which engines take as it is',
+        '"Hull_LOD1" skipped: an existing LOD1 of "Hull" (by its name): "Hull" is the source']
     assert sorted(run["lods"]) == ["Bolt", "Bolt2", "Decal", "Hull"], sorted(run["lods"])
     assert run["unchanged"]
     drawn = run["drawn_triangles"]
@@ -230,3 +232,12 @@ def test_boolean_cutters_render_disabled_objects_and_collision_meshes_are_not_pa
     assert run["asset"]["source_triangles"] == asset, run["asset"]
     for k, level in enumerate(run["asset"]["levels"]):
         assert abs(level["triangles"] - RATIOS[k] * asset) <= max(4, 0.01 * asset * RATIOS[k]), (k, level)
+
+
+def test_a_files_own_lods_are_found_by_the_names_engines_give_them(res):
+    """Level 1 and up of a name with a level 0 (or a base name) beside it; a lone
+    "Rock_LOD1" or "Cup_LOD10" is a part like any other."""
+    named = res["named_lods"]
+    assert sorted(named) == ["Chair LOD2", "Chair_LOD1", "TreeLOD1", "Tree_LOD2", "chair.lod3"], named
+    assert named["chair.lod3"] == 'an existing LOD3 of "Chair" (by its name): "Chair" is the source'
+    assert named["TreeLOD1"] == 'an existing LOD1 of "Tree_LOD0" (by its name): "Tree_LOD0" is the source'

@@ -58,7 +58,8 @@ def make_instances_real(scene, view_layer) -> list:
 
 def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
     """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
-    nor a helper (a Boolean cutter, disabled in renders, a collision mesh: lod.helper_role)
+    nor a helper (a Boolean cutter, disabled in renders, a collision mesh, the file's own LOD1 and
+    up: lod.helper_role)
     (of ``view_layer``'s objects when given: an excluded collection draws nothing) and has
     faces to simplify (through its modifiers when ``depsgraph`` is given and
     ``use_modifiers``: a Mask or Boolean can leave none, and such an object failed its
@@ -92,13 +93,13 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
         meshes = [ob for ob in meshes if ob in drawn]
     from .. import lod
 
-    operands = lod.boolean_operands(scene.objects)
+    helpers = lod.scene_helpers(scene.objects)
     if depsgraph is None:
         empty = {ob: why for ob in meshes
-                 if (why := lod.helper_role(ob, operands)
+                 if (why := lod.helper_role(ob, helpers)
                          or (None if ob.type != 'MESH' or len(ob.data.polygons) else "no faces"))}
     else:
-        empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, operands))}
+        empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, helpers))}
     with_faces = [ob for ob in meshes if ob not in empty]
     if not with_faces:
         if not meshes:

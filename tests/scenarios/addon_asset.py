@@ -20,8 +20,9 @@ def build(painted: bool = False, masked: bool = False, helpers: bool = False) ->
     "Masked" whose Mask modifier (an empty vertex group) leaves no faces; ``helpers``: also
     what a hard-surface or engine file keeps beside its parts, all selected: a cylinder
     "Cutter" that a Boolean modifier of the hull cuts a hole with (shown as a wire, as
-    cutters are, but not disabled in renders), a box "Proxy" disabled in renders and a box
-    "UCX_Hull" (a collision mesh by Unreal's naming)."""
+    cutters are, but not disabled in renders), a box "Proxy" disabled in renders, a box
+    "UCX_Hull" (a collision mesh by Unreal's naming) and "Hull_LOD1", the file's own
+    coarser hull (by the _LOD<k> naming of engines and asset stores)."""
     remove_all_objects()
     for me in list(bpy.data.meshes):
         bpy.data.meshes.remove(me)
@@ -54,8 +55,11 @@ def build(painted: bool = False, masked: bool = False, helpers: bool = False) ->
         proxy = bpy.context.active_object
         proxy.name, proxy.hide_render = "Proxy", True
         bpy.ops.mesh.primitive_cube_add(size=4.0)
-        bpy.context.active_object.name = "UCX_Hull"
-        return [hull, bolt, other, decal, cutter, proxy, bpy.context.active_object]
+        collision = bpy.context.active_object
+        collision.name = "UCX_Hull"
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=2.0)
+        bpy.context.active_object.name = "Hull_LOD1"
+        return [hull, bolt, other, decal, cutter, proxy, collision, bpy.context.active_object]
     if not masked:
         return [hull, bolt, other, decal]
     bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, -3.0, 0.0))
@@ -170,4 +174,15 @@ def run() -> dict:
         # A Boolean cutter, a box disabled in renders and a collision box, selected with
         # the parts: the asset goes on without them.
         "helpers": run_job(helpers=True, ratios=(0.5, 0.25, 0.125), measure_deviation=False),
+        "named_lods": named_lods(),
     }
+
+
+def named_lods() -> dict:
+    """lod.scene_helpers' reasons for objects named as engines and asset stores name their
+    levels (stand-ins with a name and no modifiers)."""
+    from types import SimpleNamespace
+
+    names = ["Chair", "Chair_LOD1", "Chair LOD2", "chair.lod3", "Rock_LOD1", "Tree_LOD0", "TreeLOD1",
+             "Tree_LOD2", "Gear_LOD0", "Cup_LOD10"]
+    return lod.scene_helpers([SimpleNamespace(name=n, modifiers=()) for n in names])
