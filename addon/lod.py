@@ -27,6 +27,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import asset as asset_set
+from . import lod_objects
 from . import mesh_io
 from . import object_importance
 from . import rig
@@ -111,18 +112,26 @@ def scene_helpers(objects) -> dict:
             for operand in operands:
                 helpers[operand.name] = ("a Boolean modifier's operand (its shape is already in the object whose "
                                          "modifier uses it)")
+    for name, (first, level) in own_lods(objects).items():
+        helpers.setdefault(name, f'an existing LOD{level} of "{first}" (by its name): "{first}" is the source')
+    return helpers
+
+
+def own_lods(objects) -> dict:
+    """{name: (its level 0's name, its level)} of those of ``objects`` that are a file's
+    own lower levels of detail by their names (_LOD_NAME: level 1 and up beside a level 0
+    or the base name). LODs an earlier run made (marked) are not the file's own."""
     named = {}  # (base, level) -> name
     for ob in objects:
+        if lod_objects.LEVEL_PROP in ob:
+            continue
         match = _LOD_NAME.match(ob.name)
         if match:
             named[(match["base"].lower(), int(match["level"]))] = ob.name
         else:
             named.setdefault((ob.name.lower(), 0), ob.name)
-    for (base, level), name in named.items():
-        first = named.get((base, 0))
-        if level > 0 and first is not None and name not in helpers:
-            helpers[name] = f'an existing LOD{level} of "{first}" (by its name): "{first}" is the source'
-    return helpers
+    return {name: (named[(base, 0)], level) for (base, level), name in named.items()
+            if level > 0 and (base, 0) in named}
 
 
 def helper_role(source, helpers: dict) -> Optional[str]:

@@ -161,13 +161,19 @@ def test_an_asset_of_one_mesh_drawn_three_times_splits_its_budget_over_the_copie
     assert '"Masked" skipped: its modifiers leave no faces' in entry["warnings"], entry["warnings"]
     assert any(w.startswith('"Cutter" skipped: a Boolean modifier') for w in entry["warnings"]), entry["warnings"]
     assert any(w.startswith('"UCX_Right" skipped: a collision mesh') for w in entry["warnings"]), entry["warnings"]
+    # The file's own "Right_LOD1" is no part, and is not written: drawn at every distance
+    # it would lie on the new levels (the input file itself is not touched).
+    assert '"Right_LOD1" not written: the new levels of "Right" replace it' in entry["warnings"], entry["warnings"]
     drawn = 3 * collection_cli["monkey_triangles"]
     for level, ratio in zip(entry["asset"]["levels"], (0.5, 0.25)):
         assert drawn * ratio - 3 <= level["triangles"] <= drawn * ratio, (level["triangles"], drawn)
     objects = {o["object"]: o for o in entry["objects"]}
     assert sorted(objects) == ["Left", "Right", "Tall"]
     assert len({tuple(lv["mesh"] for lv in o["levels"]) for o in objects.values()}) == 1
-    assert len([n for n in collection_cli["shared_glb"]["nodes"] if "MSFT_lod" in n.get("extensions", {})]) == 1
+    gltf = collection_cli["shared_glb"]
+    assert len([n for n in gltf["nodes"] if "MSFT_lod" in n.get("extensions", {})]) == 1
+    named = [n for n in gltf["nodes"] if n["name"] == "Right_LOD1"]
+    assert len(named) == 1 and gltf["meshes"][named[0]["mesh"]]["name"] == objects["Right"]["levels"][1]["mesh"]
 
 
 def test_curves_and_text_switch_with_the_asset_in_the_glb(tmp_path):

@@ -105,7 +105,7 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         objects, skipped = sources.select_objects(scene, args.objects, bpy.context.view_layer,
                                                   bpy.context.evaluated_depsgraph_get(),
                                                   getattr(args, "use_modifiers", True))
-        entry["warnings"] += skipped
+        entry["warnings"] += skipped + sources.drop_replaced_lods(scene, objects)
         entries, asset = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group, asset)
         entry["objects"] = entries

@@ -7,6 +7,7 @@ rather than failing its input.
 """
 from __future__ import annotations
 
+from .. import lod
 from .. import lod_objects
 from .. import mesh_io
 from .. import rig
@@ -56,6 +57,24 @@ def make_instances_real(scene, view_layer) -> list:
     return notes
 
 
+def drop_replaced_lods(scene, sources) -> list:
+    """Remove from the loaded scene the file's own LODs (lod.own_lods) of the objects in
+    ``sources``, which get new levels; returns a note for each. The written file would
+    draw them at every distance, on top of the new levels (an asset-store FBX's Chair_LOD1
+    and Chair_LOD2 beside the Chair_LOD0 it was made from). The input file is not touched:
+    the command line works on its own copy of the scene."""
+    import bpy
+
+    made = {ob.name for ob in sources}
+    notes = []
+    for name, (first, _) in lod.own_lods(list(scene.objects)).items():
+        ob = scene.objects.get(name)
+        if first in made and ob is not None and name not in made:
+            bpy.data.objects.remove(ob)
+            notes.append(f'"{name}" not written: the new levels of "{first}" replace it')
+    return notes
+
+
 def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
     """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
     nor a helper (a Boolean cutter, disabled in renders, a collision mesh, the file's own LOD1 and
@@ -91,8 +110,6 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
         skipped = [f'"{ob.name}" skipped: not in the view layer (its collection is excluded)'
                    for ob in meshes if ob not in drawn]
         meshes = [ob for ob in meshes if ob in drawn]
-    from .. import lod
-
     helpers = lod.scene_helpers(scene.objects)
     if depsgraph is None:
         empty = {ob: why for ob in meshes

@@ -4,7 +4,8 @@ that are collection instances: a cube "Base" with a Subdivision Surface, the col
 "Bolt", and three empties instancing it at their own places, one of them scaled.
 ``shared_out``: one monkey mesh drawn by three objects: "Right", "Left" mirrored (scale
 x -1) and "Tall" (scale z 4), a cube "Masked" whose Mask modifier leaves no faces, a
-cylinder "Cutter" its Boolean modifier cuts with and a box "UCX_Right" (a collision mesh)."""
+cylinder "Cutter" its Boolean modifier cuts with, a box "UCX_Right" (a collision mesh) and
+"Right_LOD1", the file's own coarser monkey (a Decimate applied to a copy)."""
 import bpy
 
 from scene_tools import remove_all_objects
@@ -65,5 +66,12 @@ def run(blend_out: str, shared_out: str = "") -> dict:
         hole.object = cutter
         bpy.ops.mesh.primitive_cube_add(size=3.0, location=(1.5, 0.0, 0.0))
         bpy.context.active_object.name = "UCX_Right"
+        # And the file's own coarser "Right", as an asset store ships it.
+        own = bpy.data.objects.new("Right_LOD1", right.data.copy())
+        own.location = right.location
+        scene.collection.objects.link(own)
+        own.modifiers.new("Decimate", 'DECIMATE').ratio = 0.5
+        bpy.context.view_layer.objects.active = own
+        bpy.ops.object.modifier_apply(modifier="Decimate")
         bpy.ops.wm.save_as_mainfile(filepath=shared_out)
     return made
