@@ -180,9 +180,14 @@ def run() -> dict:
 
 def named_lods() -> dict:
     """lod.scene_helpers' reasons for objects named as engines and asset stores name their
-    levels (stand-ins with a name and no modifiers)."""
-    from types import SimpleNamespace
+    levels (stand-ins with a name, no modifiers and no custom properties), and one a run
+    made ("Gear_LOD1", marked) beside its source."""
+    class Named(dict):
+        def __init__(self, name, **props):
+            super().__init__(props)
+            self.name, self.modifiers = name, ()
 
     names = ["Chair", "Chair_LOD1", "Chair LOD2", "chair.lod3", "Rock_LOD1", "Tree_LOD0", "TreeLOD1",
              "Tree_LOD2", "Gear_LOD0", "Cup_LOD10"]
-    return lod.scene_helpers([SimpleNamespace(name=n, modifiers=()) for n in names])
+    made = Named("Gear_LOD1", **{lod.lod_objects.LEVEL_PROP: 1})
+    return lod.scene_helpers([Named(n) for n in names] + [made])
