@@ -120,10 +120,12 @@ def scene_helpers(objects) -> dict:
 def own_lods(objects) -> dict:
     """{name: (its level 0's name, its level)} of those of ``objects`` that are a file's
     own lower levels of detail by their names (_LOD_NAME: level 1 and up beside a level 0
-    or the base name). LODs an earlier run made (marked) are not the file's own."""
+    or the base name), among those that draw geometry (an FBX's LOD group empty named
+    "Rock" is no level 0 of "Rock_LOD1"). LODs an earlier run made (marked) are not the
+    file's own."""
     named = {}  # (base, level) -> name
     for ob in objects:
-        if lod_objects.LEVEL_PROP in ob:
+        if lod_objects.LEVEL_PROP in ob or not mesh_io.draws_geometry(ob):
             continue
         match = _LOD_NAME.match(ob.name)
         if match:

@@ -180,14 +180,15 @@ def run() -> dict:
 
 def named_lods() -> dict:
     """lod.scene_helpers' reasons for objects named as engines and asset stores name their
-    levels (stand-ins with a name, no modifiers and no custom properties), and one a run
-    made ("Gear_LOD1", marked) beside its source."""
+    levels (stand-ins with a name, a type, no modifiers and no custom properties), one a
+    run made ("Gear_LOD1", marked) beside its source, and an empty "Rock"."""
     class Named(dict):
-        def __init__(self, name, **props):
+        def __init__(self, name, kind='MESH', **props):
             super().__init__(props)
-            self.name, self.modifiers = name, ()
+            self.name, self.type, self.modifiers = name, kind, ()
 
     names = ["Chair", "Chair_LOD1", "Chair LOD2", "chair.lod3", "Rock_LOD1", "Tree_LOD0", "TreeLOD1",
              "Tree_LOD2", "Gear_LOD0", "Cup_LOD10"]
     made = Named("Gear_LOD1", **{lod.lod_objects.LEVEL_PROP: 1})
-    return lod.scene_helpers([Named(n) for n in names] + [made])
+    group = Named("Rock", 'EMPTY')  # an FBX's LOD group: no level 0 of Rock_LOD1
+    return lod.scene_helpers([Named(n) for n in names] + [made, group])
