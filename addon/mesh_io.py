@@ -270,23 +270,12 @@ def read_object(obj: bpy.types.Object, depsgraph, use_modifiers: bool = True,
     its shape keys move curve points, not the mesh's vertices, and are not carried.
     """
     warnings = []
-    if obj.type != 'MESH':
-        if getattr(obj.data, "shape_keys", None) is not None:
-            warnings.append("its shape keys are not carried: they move the curve's points, not a mesh's vertices")
-        with _rest_state(obj):
-            depsgraph.update()
-            evaluated = obj.evaluated_get(depsgraph)
-            mesh = evaluated.to_mesh(preserve_all_data_layers=True, depsgraph=depsgraph)
-            try:
-                data = read_mesh(mesh, group_method=group_method, group_names=evaluated.vertex_groups.keys())
-            finally:
-                evaluated.to_mesh_clear()
-        depsgraph.update()
-        return data, warnings
-    if not use_modifiers or not has_geometry_modifiers(obj):
+    if obj.type == 'MESH' and (not use_modifiers or not has_geometry_modifiers(obj)):
         data = read_mesh(obj.data, group_method=group_method, group_names=obj.vertex_groups.keys())
         _base_shape_keys(obj.data, data)
         return data, warnings
+    if obj.type != 'MESH' and getattr(obj.data, "shape_keys", None) is not None:
+        warnings.append("its shape keys are not carried: they move the curve's points, not a mesh's vertices")
 
     with _rest_state(obj):
         depsgraph.update()
@@ -300,7 +289,7 @@ def read_object(obj: bpy.types.Object, depsgraph, use_modifiers: bool = True,
             data = read_mesh(mesh, group_method=group_method, group_names=evaluated.vertex_groups.keys())
         finally:
             evaluated.to_mesh_clear()
-        key = obj.data.shape_keys
+        key = obj.data.shape_keys if obj.type == 'MESH' else None
         if key is not None and len(key.key_blocks) > 1:
             data.basis_name = key.key_blocks[0].name
             data.shape_use_relative = bool(key.use_relative)

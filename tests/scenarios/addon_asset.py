@@ -11,7 +11,7 @@ import numpy as np
 from addon import job as job_mod
 from addon import lod
 from addon.pure._core import core
-from scene_tools import mesh_hash, remove_all_objects
+from scene_tools import drawn_triangles, mesh_hash, remove_all_objects
 
 
 def build(painted: bool = False, masked: bool = False, helpers: bool = False) -> list:
@@ -73,17 +73,6 @@ def build(painted: bool = False, masked: bool = False, helpers: bool = False) ->
 def triangles(ob) -> int:
     ob.data.calc_loop_triangles()
     return len(ob.data.loop_triangles)
-
-
-def drawn_triangles(ob) -> int:
-    """The triangles of ``ob``'s evaluated mesh (through its modifiers)."""
-    evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        mesh.calc_loop_triangles()
-        return len(mesh.loop_triangles)
-    finally:
-        evaluated.to_mesh_clear()
 
 
 def run_job(painted: bool = False, masked: bool = False, helpers: bool = False, **settings) -> dict:

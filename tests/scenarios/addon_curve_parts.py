@@ -17,19 +17,9 @@ import numpy as np
 from addon import job as job_mod
 from addon import lod
 from addon import operators
-from scene_tools import remove_all_objects, select_only
+from scene_tools import drawn_triangles, remove_all_objects, select_only
 
 RATIOS = (0.5, 0.25)
-
-
-def drawn_triangles(ob) -> int:
-    evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        mesh.calc_loop_triangles()
-        return len(mesh.loop_triangles)
-    finally:
-        evaluated.to_mesh_clear()
 
 
 def curve_hash(curve) -> str:

@@ -28,6 +28,18 @@ def remove_all_objects() -> None:
         bpy.data.objects.remove(ob)
 
 
+def drawn_triangles(ob) -> int:
+    """The triangles of ``ob``'s evaluated mesh (through its modifiers; a curve's or a
+    text's as it evaluates)."""
+    evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        return len(mesh.loop_triangles)
+    finally:
+        evaluated.to_mesh_clear()
+
+
 def select_only(*obs) -> None:
     """Select exactly ``obs``; the first becomes active (with none, the active one stays)."""
     for ob in list(bpy.context.selected_objects):
