@@ -7,6 +7,7 @@ that keep the LOD shading and unwrapped as its source does.
 from __future__ import annotations
 
 import dataclasses
+from typing import Optional
 
 import numpy as np
 
@@ -53,7 +54,7 @@ def lod_mesh(data: MeshData, result, names, hard_edge_angle: float = 0.0) -> Mes
     uv_maps = {uv_name: ca[f"uv{i}"] for i, uv_name in enumerate(data.uv_maps)}
     shape_keys = [dataclasses.replace(sk, offsets=va[f"shape{i}"]) for i, sk in enumerate(data.shape_keys)]
     carried = interpolated_attributes(data)
-    attributes = [carried_attribute(data, result, layer, f"attr{i}" in carried and f"attr{i}")
+    attributes = [carried_attribute(data, result, layer, f"attr{i}" if f"attr{i}" in carried else None)
                   for i, layer in enumerate(data.attributes)]
     smooth_group = data.smooth_group[fo]
     faces = result.faces
@@ -113,9 +114,9 @@ def lod_mesh(data: MeshData, result, names, hard_edge_angle: float = 0.0) -> Mes
     )
 
 
-def carried_attribute(data: MeshData, result, layer: AttributeLayer, key) -> AttributeLayer:
+def carried_attribute(data: MeshData, result, layer: AttributeLayer, key: Optional[str]) -> AttributeLayer:
     """The LOD's values of the source's generic attribute ``layer``: what the core
-    interpolated for it (``key``: its name in the result's attributes, or False), else the
+    interpolated for it (``key``: its name in the result's attributes, or None), else the
     value of the element each LOD element came from: a face's from its source face, a
     vertex's from its source vertex, a corner's from origin_corners, an edge's from the
     source edge between its ends' source vertices, or else from the first edge of a chain
