@@ -9,7 +9,8 @@ import pytest
 from bpy_harness import run_scenario
 
 NAMES = {"wear": ('POINT', 'FLOAT'), "top": ('POINT', 'BOOLEAN'), "side": ('FACE', 'INT'),
-         "corner_side": ('CORNER', 'INT'), "crease_edge": ('EDGE', 'FLOAT'), "tint": ('FACE', 'FLOAT_COLOR')}
+         "corner_side": ('CORNER', 'INT'), "crease_edge": ('EDGE', 'FLOAT'), "tint": ('FACE', 'FLOAT_COLOR'),
+         "bevel_weight_edge": ('EDGE', 'FLOAT'), "turn": ('POINT', 'QUATERNION')}
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +49,11 @@ def test_a_field_is_interpolated_and_ids_flags_and_face_colours_are_kept(res):
         assert np.array_equal(a["side"], side)
         assert np.array_equal(a["corner_side"], side[np.array(lod["loop_face"])])
         assert np.allclose(a["tint"][:, 0], side / 5.0) and np.allclose(a["tint"][:, 3], 1.0)
+        # A rotation is taken from a source vertex, whole: still a unit quaternion about z.
+        assert np.allclose(np.linalg.norm(a["turn"], axis=1), 1.0, atol=1e-5)
+        assert np.allclose(a["turn"][:, 1:3], 0.0)
+        # An edge attribute of zeros (it failed the run: no marked edge to follow) stays zeros.
+        assert not np.any(a["bevel_weight_edge"])
 
 
 def test_an_edge_attribute_stays_on_the_edges_it_marked(res):

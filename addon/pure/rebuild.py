@@ -140,7 +140,8 @@ def carried_attribute(data: MeshData, result, layer: AttributeLayer, key: Option
     kept[result.vertex_origin] = True
     pairs, first = edge_util.chains_through(layer.edges[marked], kept, with_edges=True)
     chain = edge_util.edge_index(result.vertex_origin[lod_edges], pairs, n)
-    row = np.where((row < 0) & (chain >= 0), marked[first[np.maximum(chain, 0)]], row)
+    along = (row < 0) & (chain >= 0)
+    row[along] = marked[first[chain[along]]]
     return dataclasses.replace(layer, data=layer.data[row[row >= 0]], edges=lod_edges[row >= 0])
 
 

@@ -6,7 +6,9 @@ shader or a Geometry Nodes setup would read them,
   * "side"   FACE INT, which of the six sides the face is on;
   * "corner_side" CORNER INT, the same per face corner;
   * "crease_edge" EDGE FLOAT, 1 on the cube's twelve edges, 0 elsewhere;
-  * "tint"   FACE FLOAT_COLOR (a colour on faces is no colour attribute in Blender).
+  * "tint"   FACE FLOAT_COLOR (a colour on faces is no colour attribute in Blender);
+  * "bevel_weight_edge" EDGE FLOAT, all zero (Blender makes it when a tool touches it);
+  * "turn"   POINT QUATERNION, a rotation per vertex (taken, not interpolated).
 LodJob makes two LODs (0.5, 0.25); each LOD's attributes are returned with its vertices,
 triangles and edges.
 """
@@ -23,7 +25,7 @@ def array(collection, prop: str, width: int, dtype=np.float32) -> np.ndarray:
 
 
 def values(attr, width: int = 1):
-    prop = "color" if attr.data_type == 'FLOAT_COLOR' else ("vector" if attr.data_type == 'FLOAT_VECTOR' else "value")
+    prop = {'FLOAT_COLOR': "color", 'FLOAT_VECTOR': "vector"}.get(attr.data_type, "value")
     dtype = bool if attr.data_type == 'BOOLEAN' else (np.int32 if attr.data_type == 'INT' else np.float32)
     out = np.empty(len(attr.data) * width, dtype=dtype)
     attr.data.foreach_get(prop, out)
@@ -41,8 +43,8 @@ def describe(me) -> dict:
            "face_normals": normals.tolist(), "loop_face": np.repeat(np.arange(len(starts)), sizes).tolist(),
            "loop_vertex": loops.tolist(), "attributes": {}}
     for attr in me.attributes:
-        if attr.name in ("wear", "top", "side", "corner_side", "crease_edge", "tint"):
-            width = 4 if attr.data_type == 'FLOAT_COLOR' else 1
+        if attr.name in ("wear", "top", "side", "corner_side", "crease_edge", "tint", "bevel_weight_edge", "turn"):
+            width = 4 if attr.data_type in ('FLOAT_COLOR', 'QUATERNION') else 1
             out["attributes"][attr.name] = {"domain": attr.domain, "type": attr.data_type,
                                             "values": values(attr, width).tolist()}
     return out
@@ -76,6 +78,10 @@ def run() -> dict:
     tint = np.zeros((len(side), 4), np.float32)
     tint[:, 0], tint[:, 3] = side / 5.0, 1.0
     me.attributes.new("tint", 'FLOAT_COLOR', 'FACE').data.foreach_set("color", tint.ravel())
+    me.attributes.new("bevel_weight_edge", 'FLOAT', 'EDGE')
+    angle = np.arctan2(co[:, 1], co[:, 0])  # a turn about z by each vertex's angle
+    turn = np.column_stack([np.cos(angle / 2), np.zeros(len(co)), np.zeros(len(co)), np.sin(angle / 2)])
+    me.attributes.new("turn", 'QUATERNION', 'POINT').data.foreach_set("value", turn.astype(np.float32).ravel())
     before = mesh_hash(me)
     job = job_mod.LodJob(bpy.context, [ob], lod.LodSettings(ratios=(0.5, 0.25), measure_deviation=False))
     job.run()
