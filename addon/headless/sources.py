@@ -76,13 +76,13 @@ def drop_replaced_lods(scene, sources) -> list:
 
 
 def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
-    """(objects, skipped) to simplify: ``names`` or every mesh object that is not a LOD
-    nor a helper (a Boolean cutter, disabled in renders, a collision mesh, the file's own LOD1 and
-    up: lod.helper_role)
-    (of ``view_layer``'s objects when given: an excluded collection draws nothing) and has
-    faces to simplify (through its modifiers when ``depsgraph`` is given and
-    ``use_modifiers``: a Mask or Boolean can leave none, and such an object failed its
-    file)."""
+    """(objects, skipped) to simplify: ``names``, or every object that draws a mesh
+    (mesh_io.GEOMETRY_TYPES) and is not a LOD nor a helper (a Boolean cutter, disabled in
+    renders, a collision mesh, the file's own LOD1 and up: lod.helper_role), of
+    ``view_layer``'s objects when given (an excluded collection draws nothing), with faces
+    to simplify (through its modifiers with ``use_modifiers``: a Mask or Boolean can leave
+    none, and such an object failed its file). ``depsgraph``: the scene's evaluated one,
+    found when not given."""
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
@@ -112,11 +112,8 @@ def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers:
         meshes = [ob for ob in meshes if ob in drawn]
     helpers = lod.scene_helpers(scene.objects)
     if depsgraph is None:
-        empty = {ob: why for ob in meshes
-                 if (why := lod.helper_role(ob, helpers)
-                         or (None if ob.type != 'MESH' or len(ob.data.polygons) else "no faces"))}
-    else:
-        empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, helpers))}
+        depsgraph = mesh_io.scene_and_depsgraph(scene)[1]
+    empty = {ob: why for ob in meshes if (why := lod.left_out(ob, depsgraph, use_modifiers, helpers))}
     with_faces = [ob for ob in meshes if ob not in empty]
     if not with_faces:
         if not meshes:

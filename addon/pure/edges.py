@@ -209,8 +209,4 @@ def chains_through(edges: np.ndarray, kept: np.ndarray, with_edges: bool = False
 
 def mark_edges(mesh_edges: np.ndarray, wanted: np.ndarray, n_vertices: int) -> np.ndarray:
     """Boolean mask over ``mesh_edges`` (E, 2): True where the edge is in ``wanted``."""
-    me = np.asarray(mesh_edges, dtype=np.int64).reshape(-1, 2)
-    w = np.asarray(wanted, dtype=np.int64).reshape(-1, 2)
-    if len(me) == 0 or len(w) == 0:
-        return np.zeros(len(me), dtype=bool)
-    return np.isin(edge_keys(me, n_vertices), edge_keys(w, n_vertices))
+    return edge_index(mesh_edges, np.asarray(wanted, dtype=np.int64).reshape(-1, 2), n_vertices) >= 0
