@@ -111,10 +111,12 @@ def _prepare(context, obj, settings: LodSettings, chain_labels: tuple, asset=Non
 class LodJob:
     def __init__(self, context, objects,
                  settings: Union[LodSettings, Sequence[LodSettings]], chain_labels: tuple = (),
-                 asset_name: Optional[str] = None):
+                 asset_name: Optional[str] = None, named: bool = False):
         """``settings``: one for every object, or a sequence with one per object;
         ``chain_labels``: how messages name an explicit chain (lod.prepare); ``asset_name``:
-        what an asset's glTF level nodes are named after (default: asset_set.default_name).
+        what an asset's glTF level nodes are named after (default: asset_set.default_name);
+        ``named``: the objects were named one by one (the command line's --objects), so a
+        helper among them (lod.helper_role) is a part as asked.
         Reads Blender data: main thread only. Raises LodError for bad input, naming the object."""
         objects = list(objects)
         per_object = list(settings) if isinstance(settings, (list, tuple)) else [settings] * len(objects)
@@ -135,7 +137,7 @@ class LodJob:
         self.skipped = []  # notes: '"name" skipped: why'
         if len(objects) > 1:
             scene, depsgraph = mesh_io.scene_and_depsgraph(context)
-            helpers = lod.scene_helpers(scene.objects)
+            helpers = None if named else lod.scene_helpers(scene.objects)
             why = [lod.left_out(ob, depsgraph, s.use_modifiers, helpers) for ob, s in zip(objects, per_object)]
             if all(why):
                 raise LodError(f"none of the {len(objects)} objects is a part to simplify: "

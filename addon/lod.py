@@ -155,10 +155,12 @@ def helper_role(source, helpers: dict) -> Optional[str]:
     return None
 
 
-def left_out(source, depsgraph, use_modifiers: bool, helpers: dict) -> Optional[str]:
+def left_out(source, depsgraph, use_modifiers: bool, helpers: Optional[dict]) -> Optional[str]:
     """Why an object of several is not a part of their asset (helper_role, then
-    nothing_to_simplify), or None."""
-    return helper_role(source, helpers) or nothing_to_simplify(source, depsgraph, use_modifiers)
+    nothing_to_simplify), or None. ``helpers`` None: no object is taken for a helper
+    (the objects were named one by one)."""
+    return (helpers is not None and helper_role(source, helpers)) or nothing_to_simplify(source, depsgraph,
+                                                                                            use_modifiers)
 
 
 def shared_mesh_key(source, settings: LodSettings):

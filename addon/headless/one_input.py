@@ -31,7 +31,8 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     settings = [lod_settings(args, importance_source=source, importance_group=group, limit_group=limit_group)
                 for (source, group, _), (limit_group, _) in zip(choices, limited)]
     # An input's objects are one asset (addon/asset.py), named after the file.
-    job = LodJob(bpy.context, objects, settings, CHAIN_LABELS, asset_name=asset_name(label))
+    job = LodJob(bpy.context, objects, settings, CHAIN_LABELS, asset_name=asset_name(label),
+                 named=bool(args.objects))
     # Objects sharing one input (LodJob: one mesh, equal settings) have the same note.
     for lod_input, (_, _, note), (_, limit_note) in zip(job.object_inputs, choices, limited):
         for text in (note, limit_note):
