@@ -205,6 +205,9 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     settings.validate()
     _, depsgraph = mesh_io.scene_and_depsgraph(context_or_scene)
     data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
+    if len(data.faces) == 0 and source.type != 'MESH':  # a curve without bevel, a metaball of a family
+        raise LodError(f'"{source.name}" has nothing to simplify: '
+                       f'{nothing_to_simplify(source, depsgraph, settings.use_modifiers)}')
     if len(data.vertices) == 0:
         raise LodError(f'"{source.name}" has an empty mesh')
     if len(data.faces) == 0:

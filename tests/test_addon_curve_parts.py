@@ -47,3 +47,8 @@ def test_a_text_object_alone_gets_its_lods(res):
     assert [level["type"] for level in chain] == ['MESH', 'MESH']
     assert chain[0]["triangles"] > chain[1]["triangles"]
     assert abs(chain[0]["triangles"] - RATIOS[0] * res["drawn"]["Logo"]) <= 2
+
+
+def test_a_curve_without_faces_alone_says_why(res):
+    assert res["guide_alone"] == ('"Guide" has nothing to simplify: its curve makes no faces '
+                                  '(no bevel, extrusion or fill)')

@@ -90,4 +90,9 @@ def run(blend_out: str = "") -> dict:
                            lod.LodSettings(ratios=RATIOS, measure_deviation=False))
     alone.run()
     out["alone"] = chains(alone.commit(bpy.context))
+    # The curve without faces alone: a message that says why.
+    try:
+        job_mod.LodJob(bpy.context, [bpy.data.objects["Guide"]], lod.LodSettings(ratios=RATIOS))
+    except lod.LodError as ex:
+        out["guide_alone"] = str(ex)
     return out
