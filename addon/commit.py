@@ -147,8 +147,9 @@ def _build(outputs: list, names: list, group_names: dict) -> list:
                 if new:  # both are the mesh's (vertex group names too, since Blender 3.0)
                     mesh_io.add_vertex_groups(lod, level)
                     mesh_io.add_shape_keys(lod, level)
-                    animation.copy_animation(getattr(source.data, "shape_keys", None) if source.type == 'MESH'
-                                             else None, mesh.shape_keys)
+                    # (A curve's keys move its points, not the LOD's vertices: not carried.)
+                    animation.copy_animation(source.data.shape_keys if source.type == 'MESH' else None,
+                                             mesh.shape_keys)
                 _copy_setup(source, lod, k, mesh_too=new)
                 animation.copy_animation(source, lod)
     except BaseException:
