@@ -113,6 +113,15 @@ def same_points(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return _find(_row_keys(np.asarray(a, dtype=np.float64)), _row_keys(np.asarray(b, dtype=np.float64)))
 
 
+def distinct_points(points: np.ndarray) -> tuple:
+    """The distinct positions among ``points`` (k, 3), bit for bit: ((u,) the index of one
+    point at each position, (k,) which of those u each point is at), so that
+    ``points[first][inverse]`` is ``points``."""
+    keys = _row_keys(np.asarray(points, dtype=np.float64))
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    return first, inverse.reshape(-1)
+
+
 def same_triangles(va, fa, vb, fb) -> tuple:
     """Which triangles of mesh a are triangles of mesh b, corner for corner: ((ma,) the
     index of a triangle of b on vertices at the very same positions (bit for bit), either

@@ -163,6 +163,45 @@ def test_part_deviations_give_each_part_its_own_distance(brute_trees):
     assert np.isnan(h[3]) and np.isnan(m[3])  # a part neither surface has
 
 
+def _split_at(v, f, x):
+    """(vertices, faces) of the mesh cut along the line of vertices at ``x``: the faces
+    beyond it get copies of those vertices, as an importer splits a mesh at a UV seam."""
+    beyond = v[f].mean(axis=1)[:, 0] > x
+    on = np.flatnonzero(np.isclose(v[:, 0], x))
+    copy = np.arange(len(v))
+    copy[on] = len(v) + np.arange(len(on))
+    f = f.copy()
+    f[beyond] = copy[f[beyond]]
+    return np.concatenate([v, v[on]]), f
+
+
+def test_vertices_at_one_position_are_queried_once(brute_trees, monkeypatch):
+    # Each vertex query is a Python call; an imported mesh has several vertices at each
+    # position of its seams, and their distance is one and the same.
+    searched = []
+
+    class CountingTree(_BruteTree):
+        def find_nearest(self, co, distance=float("inf")):
+            if distance != float("inf"):  # the query loop's (the pilot's are unbounded)
+                searched.append(tuple(co))
+            return super().find_nearest(co, distance)
+
+    monkeypatch.setattr(measure, "_tree_builder", CountingTree)
+    v, f = grid(6, alternate=False)
+    split_v, split_f = _split_at(v, f, 0.5)
+    lod = lambda p: p + np.c_[np.zeros((len(p), 2)), 0.01 * (1.0 + p[:, 0])]  # nothing shared
+    welded = measure.surface_deviation(v, f, lod(v), f, n_samples=0, keep_samples=True)
+    searched.clear()
+    split = measure.surface_deviation(split_v, split_f, lod(split_v), split_f, n_samples=0, keep_samples=True)
+    assert len(split_v) == len(v) + 7
+    assert len(searched) == 2 * len(v)  # each direction: every position once, not its 7 copies again
+    assert split["hausdorff"] == welded["hausdorff"] and split["mean"] == pytest.approx(welded["mean"])
+    assert split["points_src"] == len(split_v)  # every vertex still has its distance
+    sampled = split["sampled"]
+    d = dict(zip(sampled.src_vertices.tolist(), sampled.src_vertex_distance))
+    assert all(d[len(v) + i] == d[j] for i, j in enumerate(np.flatnonzero(np.isclose(v[:, 0], 0.5))))
+
+
 def test_samples_carry_their_triangle_and_barycentric_coordinates():
     v, f = grid(4, jitter=0.2)
     points, tri, bary = measure._sample_surface(v, f, 1000, np.random.default_rng(5))
