@@ -103,6 +103,7 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         scene = bpy.context.scene
         lod_group.restore_base_names(scene)
         entry["warnings"] += sources.make_instances_real(scene, bpy.context.view_layer)
+        entry["warnings"] += sources.make_linked_local(bpy.context.view_layer)
         objects, skipped = sources.select_objects(scene, args.objects, bpy.context.view_layer,
                                                   bpy.context.evaluated_depsgraph_get(),
                                                   getattr(args, "use_modifiers", True))

@@ -247,12 +247,15 @@ def write_atomically(path: Path, show_output: bool) -> None:
     The exporter writes into ``.<name>.<random>.part/<name>`` (companion files such as a
     .gltf's .bin or an .obj's .mtl keep the names it gives them); only after it
     succeeded are the files moved into place, the main file last. A failure leaves any
-    earlier file at ``path`` untouched.
+    earlier file at ``path`` untouched. A .blend is written beside ``path`` as
+    ``.<name>.<random>.part.blend``: Blender makes the paths it holds (textures, linked
+    libraries) relative to where it writes the file, and from the folder below every
+    "//" path pointed one folder too deep once the file was moved into place.
     """
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp_dir = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent))
+    target = path.parent / f"{tmp_dir.name}.blend" if path.suffix.lower() == ".blend" else tmp_dir / path.name
     try:
-        target = tmp_dir / path.name
         try:
             with blender_output(show_output):
                 export_scene(target)
@@ -269,4 +272,6 @@ def write_atomically(path: Path, show_output: bool) -> None:
         os.replace(target, path)
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
+        if target.parent != tmp_dir:
+            target.unlink(missing_ok=True)
 

@@ -57,6 +57,32 @@ def make_instances_real(scene, view_layer) -> list:
     return notes
 
 
+def make_linked_local(view_layer) -> list:
+    """Every object the view layer draws that is linked from another .blend becomes a
+    local object in its place, under its own name where no local object has it (its
+    mesh, materials and rig stay linked, and the library is not touched). Returns a note
+    per object.
+
+    A linked object cannot be renamed (its source becomes "<name>_LOD0", lod_group.py),
+    and its name is only unique within its library: beside a local object of the same
+    name, say a copy that make_instances_real made of the library's collection, the
+    chains were looked up by name and the file failed with 'cannot rename "Rock" to
+    "Rock_LOD0": an object of that name exists'."""
+    from pathlib import Path
+
+    notes = []
+    for ob in [o for o in view_layer.objects if o.library is not None]:
+        name, library = ob.name, Path(ob.library.filepath.replace("//", "", 1)).name
+        local = ob.make_local()
+        if local.name != name:
+            local.name = name  # (Blender keeps another name if a local object has this one)
+        notes.append(f'"{local.name}": linked from {library}, made a local object in the output '
+                     f'(its mesh stays linked)')
+    if notes:
+        view_layer.update()
+    return notes
+
+
 def drop_replaced_lods(scene, sources) -> list:
     """Remove from the loaded scene the file's own LODs (lod.own_lods) of the objects in
     ``sources``, which get new levels; returns a note for each. The written file would
