@@ -110,8 +110,8 @@ class InputSlivers:
 
     quality: np.ndarray  # (run faces,) triangle quality of each input face, by face_origin
     worst: np.ndarray  # (n,) the worst input face merged into each vertex so far
-    allowance: float  # the share of slivers the LOD may have (sliver_allowance)
-    floor_off: bool = False  # this pass: fewer slivers than the allowance, the floor is off
+    allowance: object  # the share of slivers the LOD may have (sliver_allowance); per part (parts,) in a run of several
+    floor_off: object = False  # this pass: fewer slivers than the allowance, the floor is off (per part, like allowance)
     stalled: bool = False  # the last pass took nothing
 
 
@@ -257,7 +257,8 @@ def run(p: Problem) -> list:
     # reference for rule no_turn_over.
     input_quality[p.face_origin] = triangle_quality(s.V, s.F if p.unsplit_faces is None else p.unsplit_faces)
     s.slivers = InputSlivers(input_quality, slivers.worst_input_quality(s.F, n, input_quality[p.face_origin]),
-                             slivers.sliver_allowance(input_quality[p.face_origin]))
+                             slivers.sliver_allowance(input_quality[p.face_origin]) if s.part is None else
+                             slivers.part_allowances(input_quality[p.face_origin], s.part[s.F[:, 0]], len(s.part_cost)))
     s.cost_per_area = bool(np.any(p.line_weights > 0)) or (p.quadric_scale is not None and bool(np.any(p.quadric_scale > 1)))
     s.area_scale = float(area.mean()) if n else 1.0
 
@@ -559,11 +560,9 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
     # The floor is off while the LOD has fewer slivers than its input's share, and for a
     # pass after one that took nothing: a LOD that hovers at the share would otherwise
     # crawl on a few collapses a pass (a CAD part took 590 passes for its last 250 faces).
-    s.slivers.floor_off = s.slivers.allowance > 0 and (
-        s.slivers.stalled or slivers.within_allowance(s.V, s.F, s.slivers.allowance))
+    s.slivers.floor_off = _sliver_floor_off(s)
     mean_sq = cand.cost if s.cost_per_area else cand.cost / np.maximum(s.area[cand.keep] + s.area[cand.remove], 1e-300)
-    if not s.slivers.allowance:  # in a sliver-rich input slivers are the shape, not faults to go first
-        cand = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
+    cand = _input_slivers_first(s, conn, cand)
     drawn = _drawn(s)
     share = min(max(0.5 * (drawn - target) / drawn, COST_QUANTILE_MIN), COST_QUANTILE_MAX)
     if s.slivers.stalled and s.bound is not None and not s.bound.global_bound:
@@ -601,6 +600,36 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
             s.bound.tracker.commit(cand.edge[chosen])
         _apply(s, conn, cand, chosen, pass_no)
     return None
+
+
+def _sliver_floor_off(s: State):
+    """InputSlivers.floor_off for this pass: a sliver-rich input (or, in a run of several,
+    each sliver-rich part: an array by part) may make slivers while it has fewer than its
+    allowance, or after a pass that took nothing."""
+    allowance = s.slivers.allowance
+    if np.ndim(allowance) == 0:
+        return allowance > 0 and (s.slivers.stalled or slivers.within_allowance(s.V, s.F, allowance))
+    if not allowance.any():
+        return False
+    return (allowance > 0) & (s.slivers.stalled | slivers.parts_within_allowance(s.V, s.F, s.part[s.F[:, 0]], allowance))
+
+
+def _input_slivers_first(s: State, conn, cand):
+    """``cand`` with the input's slivers ranked first (slivers.ranked_first) where they are
+    faults: in an input, or a part of a run of several, that is not sliver-rich (in one
+    that is they are its shape)."""
+    allowance = s.slivers.allowance
+    if np.ndim(allowance) == 0:
+        if allowance:
+            return cand
+        return slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
+    if allowance.all():
+        return cand
+    ranked = slivers.ranked_first(s.V, s.F, s.face_origin, s.slivers.quality, s.guards.min_quality, conn, cand)
+    if ranked is cand or not allowance.any():
+        return ranked
+    plain = allowance[s.part[cand.keep]] == 0
+    return selection.Candidates(cand.edge, cand.keep, cand.remove, cand.position, np.where(plain, ranked.cost, cand.cost))
 
 
 def _features(p: Problem, conn, face_normals, face_areas) -> tuple:

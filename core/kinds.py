@@ -76,7 +76,7 @@ FAULTS = (
                                                   "them simplify"),
     ("pinched vertex", "core.kinds", "COMPLEX, as above"),
     ("sliver-rich tessellation", "core.slivers", "the LOD may have the input's share of slivers (5 % or more "
-                                                 "of its faces)"),
+                                                 "of its faces; in an asset, of each part's own)"),
     ("UV changing at one end of a seam edge", "core.wedges", "the other end (a fan pole's ring, a cut's tip) "
                                                              "has one UV: no seam vertex, it moves freely"),
     ("normals split at every hard edge", "core.engine", "custom normals are Options.seamless_attributes: "

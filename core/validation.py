@@ -66,8 +66,12 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
 
     source = rows(s.source_normals, s.face_origin[faces])
     guards = s.guards
-    floor = 0.0 if s.slivers.floor_off else guards.min_quality  # core.slivers.sliver_allowance
-    if floor > 0 and conn.border_vertex.any():
+    floor_off = s.slivers.floor_off  # core.slivers.sliver_allowance; per part in a run of several
+    if np.ndim(floor_off) == 0:
+        floor = 0.0 if floor_off else guards.min_quality
+    else:
+        floor = np.where(floor_off[s.part[keep]], 0.0, guards.min_quality)[collapse]
+    if np.any(floor > 0) and conn.border_vertex.any():
         floor = slivers.border_floors(floor, s.slivers.worst, conn.border_vertex, keep, remove,
                                       nb_next, nb_prev, collapse)
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
