@@ -215,8 +215,8 @@ def _switch_numbers(source, out, objects: list, levels: list, asset_switch: Opti
 
 
 def _copy_setup(source, lod, level: int, mesh_too: bool = True) -> None:
-    """Give the new LOD object ``lod`` its source's place, materials, custom properties and
-    Armature modifiers. ``mesh_too``: also fill its mesh's material list (False for a LOD
+    """Give the new LOD object ``lod`` its source's place (its parent, transform and
+    constraints), materials, custom properties and Armature modifiers. ``mesh_too``: also fill its mesh's material list (False for a LOD
     mesh another instance's LOD object already set up: the list is the mesh's, shared)."""
     lod.parent = source.parent
     lod.parent_type = source.parent_type
@@ -225,6 +225,8 @@ def _copy_setup(source, lod, level: int, mesh_too: bool = True) -> None:
     lod.matrix_parent_inverse = source.matrix_parent_inverse.copy()
     for prop in _TRANSFORM_PROPS:
         setattr(lod, prop, getattr(source, prop))
+    for constraint in source.constraints:  # a Child Of or Copy Transforms that places the source
+        lod.constraints.copy(constraint)
 
     materials = source.data.materials
     if mesh_too:
