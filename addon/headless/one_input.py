@@ -20,7 +20,8 @@ from .inputs import InputJob
 
 def make_lods(objects, args, console: Console, label: str, files_left_seconds: float) -> tuple:
     """Simplify ``objects`` and link their LODs; returns (one report entry per object, the
-    asset's entry or None: addon/asset.py, the input's objects as one asset)."""
+    asset's entry or None: addon/asset.py, the input's objects as one asset, and
+    sources.keys_the_export_drops of the objects)."""
     import bpy
 
     from ..job import LodJob
@@ -42,7 +43,8 @@ def make_lods(objects, args, console: Console, label: str, files_left_seconds: f
     job.run(observer=ProgressLines(console, label, job.inputs, files_left_seconds))
     reports = job.commit(bpy.context)
     return [report.chain_entry(rep, out, sources.importance_label(source, group))
-            for rep, out, (source, group, _) in zip(reports, job.object_outputs, choices)], job.asset_report
+            for rep, out, (source, group, _) in zip(reports, job.object_outputs, choices)], job.asset_report, \
+        sources.keys_the_export_drops(objects, job.object_inputs)
 
 
 def asset_name(label: str) -> str:
@@ -108,14 +110,19 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
                                                   bpy.context.evaluated_depsgraph_get(),
                                                   getattr(args, "use_modifiers", True))
         entry["warnings"] += skipped + sources.drop_replaced_lods(scene, objects)
-        entries, asset = make_lods(objects, args, console, job.label, files_left_seconds)
+        entries, asset, keyed = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group, asset)
         entry["objects"] = entries
         if asset is not None:
             entry["asset"] = asset
         if job.outputs:
             freshness.forget(job.outputs)  # an interrupted rewrite is never taken for done
-        for out in job.outputs:
+        # A .blend keeps modifiers and keys together; the other formats then get the
+        # keyed sources' LOD0 as their stacks make it (sources.bake_keyed_sources).
+        for out in sorted(job.outputs, key=lambda o: o.suffix.lower() != ".blend"):
+            if keyed and out.suffix.lower() != ".blend":
+                entry["warnings"] += sources.bake_keyed_sources(keyed)
+                keyed = []
             console.progress(f"[{job.label}] writing {out}")
             scene_files.write_atomically(out, args.debug)
             entry["outputs"].append(str(out))

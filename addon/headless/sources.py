@@ -83,6 +83,45 @@ def make_linked_local(view_layer) -> list:
     return notes
 
 
+def keys_the_export_drops(objects, inputs) -> list:
+    """(object, its MeshData) for each mesh object whose shape keys an export that applies
+    modifiers would drop (glTF, FBX): keys and a modifier beyond Armature. ``inputs``: the
+    job's LodInput per object (its ``data`` read through the stack, each key on its own)."""
+    from .. import mesh_io
+
+    return [(ob, lod_input.data) for ob, lod_input in zip(objects, inputs)
+            if ob.type == 'MESH' and ob.data.shape_keys is not None and lod_input.data.shape_keys
+            and mesh_io.has_geometry_modifiers(ob)]
+
+
+def bake_keyed_sources(pairs) -> list:
+    """Give each (object, MeshData) of keys_the_export_drops the mesh its stack makes,
+    with its shape keys (and their animation), in place of its mesh and modifiers (but
+    Armature). Returns a note per object.
+
+    The glTF and FBX exporters apply a mesh's modifiers and then write it without its
+    keys: a face modelled with a Mirror modifier came out with its smile on LOD1-3 (read
+    through the stack, like every LOD) and none on LOD0. Only the loaded copy changes,
+    and only for those formats (one_input.process writes a .blend first)."""
+    from .. import animation, mesh_io
+
+    notes = []
+    for ob, data in pairs:
+        old = ob.data
+        name = old.name
+        old.name = f"{name} (with modifiers)"
+        mesh = mesh_io.build_mesh(name, data)
+        ob.data = mesh
+        mesh_io.add_vertex_groups(ob, data)
+        mesh_io.add_shape_keys(ob, data)
+        animation.copy_animation(old.shape_keys, mesh.shape_keys)
+        for md in [md for md in ob.modifiers if md.type != 'ARMATURE']:
+            ob.modifiers.remove(md)
+        notes.append(f'"{ob.name}": LOD0 written as its modifiers make it, with its shape keys (an export '
+                     f'that applies modifiers drops the keys)')
+    return notes
+
+
 def drop_replaced_lods(scene, sources) -> list:
     """Remove from the loaded scene the file's own LODs (lod.own_lods) of the objects in
     ``sources``, which get new levels; returns a note for each. The written file would
