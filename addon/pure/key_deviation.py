@@ -27,7 +27,8 @@ that key. Absolute keys (Relative off, mixed by evaluation time) have no value o
 each is measured as its own stored shape.
 
 Cost: two BVH trees and queries per key and level. Up to KEYS_AT_FULL_SAMPLES keys are
-sampled as the level is (deviation_search.report_samples); beyond that the samples are
+sampled as the level is (deviation_search.report_samples, the source's side
+SOURCE_SHARE of it); beyond that the samples are
 shared out so that all keys together cost about as much as KEYS_AT_FULL_SAMPLES levels,
 at least KEY_SAMPLES_MIN per surface. Every vertex of both surfaces is queried on top
 (the Hausdorff distance needs them), so a rig of a hundred keys still costs a hundred
@@ -44,7 +45,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import measure
-from .deviation_search import report_samples
+from .deviation_search import SOURCE_SHARE, report_samples
 
 KEYS_AT_FULL_SAMPLES = 4
 KEY_SAMPLES_MIN = 2_000
@@ -130,7 +131,9 @@ def level_key_deviations(data, level, diagonal: Optional[float] = None,
         diagonal = measure.bbox_diagonal(data.vertices, data.faces)
     source, lod = offsets_of(data), offsets_of(level)
     keys = len(data.shape_keys)
-    samples = (key_samples(len(data.faces), keys, part_samples), key_samples(len(level.faces), keys, part_samples))
+    # (the source's side its share, as the level's report has it: deviation_search.SOURCE_SHARE)
+    samples = (int(SOURCE_SHARE * key_samples(len(data.faces), keys, part_samples)),
+               key_samples(len(level.faces), keys, part_samples))
     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
     out = []
     still = None  # keys that move nothing are the rest shape: measured once

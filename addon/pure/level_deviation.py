@@ -200,6 +200,16 @@ def _percent(stats: dict) -> dict:
             "samples": stats["samples"]}
 
 
+def _climbed(sampled, side: str) -> tuple:
+    """(triangles (c,), barycentric coordinates (c, 3), distances (c,)) of the points the
+    measurement's climb tried on ``side`` ("src" or "dst") of ``sampled``; none if it kept none."""
+    triangle = getattr(sampled, f"{side}_climbed_triangle")
+    if triangle is None:
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros(0)
+    return (np.asarray(triangle, dtype=np.int64), np.asarray(getattr(sampled, f"{side}_climbed_bary")),
+            np.asarray(getattr(sampled, f"{side}_climbed_distance"), dtype=np.float64))
+
+
 def level_breakdown(source, level, sampled, material_names: Optional[list], regions: list,
                     diagonal: float) -> dict:
     """The level's distance per material and per painted region, in percent of
@@ -212,19 +222,23 @@ def level_breakdown(source, level, sampled, material_names: Optional[list], regi
     per slot; ``regions``: [(name, column of group_weights)] (region_columns).
 
     Each group's max also takes its vertices' distances (the vertices of its faces; for a
-    region those whose weight is at least REGION_WEIGHT), as the Hausdorff distance does:
-    the largest max over the materials is the level's Hausdorff distance."""
+    region those whose weight is at least REGION_WEIGHT) and the points the measurement's
+    climb tried on its faces (measure._climb), as the Hausdorff distance does: the largest
+    max over the materials is the level's Hausdorff distance."""
     scale = 100.0 / diagonal if diagonal > 0 else float("nan")
     src_d, dst_d = sampled.src_distance, sampled.dst_distance
     src_v, dst_v = np.asarray(sampled.src_vertices), np.asarray(sampled.dst_vertices)
-    vertex_d = np.concatenate([sampled.src_vertex_distance, sampled.dst_vertex_distance])
+    src_c, dst_c = _climbed(sampled, "src"), _climbed(sampled, "dst")
+    # (the vertices' and the climbed points' distances: each group's max only)
+    vertex_d = np.concatenate([sampled.src_vertex_distance, sampled.dst_vertex_distance, src_c[2], dst_c[2]])
     out = {}
     if material_names:
         names, src_group = material_groups(source.material_index, material_names)
         _, dst_group = material_groups(level.material_index, material_names)
         src_faces, dst_faces = membership(src_group, len(names)), membership(dst_group, len(names))
         vertex_in = np.concatenate([vertices_in(src_faces, source.faces, len(source.vertices))[src_v],
-                                    vertices_in(dst_faces, level.faces, len(level.vertices))[dst_v]])
+                                    vertices_in(dst_faces, level.faces, len(level.vertices))[dst_v],
+                                    src_faces[src_c[0]], dst_faces[dst_c[0]]])
         stats = grouped(src_d, src_faces[sampled.src_triangle], dst_d, dst_faces[sampled.dst_triangle], names,
                         scale, (vertex_d, vertex_in))
         out["materials"] = {name: _percent(s) for name, s in stats.items() if s["samples"]}
@@ -236,7 +250,12 @@ def level_breakdown(source, level, sampled, material_names: Optional[list], regi
         threshold = REGION_WEIGHT - 1e-9
         at_src = at_samples(src_w, source.faces, sampled.src_triangle, sampled.src_bary).reshape(len(src_d), -1)
         at_dst = at_samples(dst_w, level.faces, sampled.dst_triangle, sampled.dst_bary).reshape(len(dst_d), -1)
-        vertex_in = np.concatenate([src_w[src_v], dst_w[dst_v]]) >= threshold
+        vertex_in = np.concatenate([src_w[src_v], dst_w[dst_v],
+                                    at_samples(src_w, source.faces, src_c[0], src_c[1]).reshape(len(src_c[0]),
+                                                                                                 len(columns)),
+                                    at_samples(dst_w, level.faces, dst_c[0], dst_c[1]).reshape(len(dst_c[0]),
+                                                                                              len(columns))]
+                                   ) >= threshold
         stats = grouped(src_d, at_src >= threshold, dst_d, at_dst >= threshold, [n for n, _ in regions], scale,
                         (vertex_d, vertex_in))
         out["regions"] = {name: _percent(s) for name, s in stats.items()}
