@@ -81,6 +81,10 @@ _PILOT_SHARE = 100
 _PILOT_MIN = 25
 _PILOT_QUANTILE = 0.99
 _RADIUS_FACTOR = 2.0
+# The vertices' search radius comes from the area samples' distances, as a pilot's would,
+# where the direction has at least this many samples (_vertex_distances): a pilot per
+# query set paid a fifth of an engine's queries, mostly unbounded ones.
+VERTEX_RADIUS_SAMPLES = 100
 
 # The climb towards the largest distance (_climb): from the farthest area samples and
 # vertices of a direction (one seed per CLIMB_POINTS_PER_SEED points measured, at most
@@ -286,26 +290,29 @@ def _build_tree(v: np.ndarray, f: np.ndarray):
     return tree
 
 
-def _distances(tree, points: np.ndarray, with_faces: bool = False):
+def _distances(tree, points: np.ndarray, with_faces: bool = False, radius: Optional[float] = None):
     """Exact distance from each point to the surface in ``tree``, (k,) float64; with
-    ``with_faces`` also the index (k,) int64 of the tree's triangle the closest point is on."""
+    ``with_faces`` also the index (k,) int64 of the tree's triangle the closest point is on.
+    ``radius``: the search radius, when the caller knows about how far the points are (no
+    pilot); None: from a pilot on a subset."""
     if len(points) == 0:
         return (np.empty(0), np.empty(0, dtype=np.int64)) if with_faces else np.empty(0)
     with gc_paused():
-        return _queried(tree, points, with_faces)
+        return _queried(tree, points, with_faces, radius)
 
 
-def _queried(tree, points: np.ndarray, with_faces: bool) -> tuple:
+def _queried(tree, points: np.ndarray, with_faces: bool, radius: Optional[float] = None) -> tuple:
     """_distances of a non-empty ``points``, the collector paused."""
     # Lists as tolist gives them: mathutils reads a list as fast as a tuple, and making
     # the tuples cost a third of the queries' own time.
     pts = points.tolist()
     find = tree.find_nearest
-    pilot_count = min(_PILOT_POINTS, len(pts), max(_PILOT_MIN, len(pts) // _PILOT_SHARE))
-    pilot_idx = np.linspace(0, len(pts) - 1, pilot_count).astype(np.int64)
-    pilot = np.fromiter(map(_DISTANCE, map(find, map(pts.__getitem__, pilot_idx.tolist()))),
-                        dtype=np.float64, count=pilot_count)
-    radius = float(np.quantile(pilot, _PILOT_QUANTILE)) * _RADIUS_FACTOR
+    if radius is None:
+        pilot_count = min(_PILOT_POINTS, len(pts), max(_PILOT_MIN, len(pts) // _PILOT_SHARE))
+        pilot_idx = np.linspace(0, len(pts) - 1, pilot_count).astype(np.int64)
+        pilot = np.fromiter(map(_DISTANCE, map(find, map(pts.__getitem__, pilot_idx.tolist()))),
+                            dtype=np.float64, count=pilot_count)
+        radius = float(np.quantile(pilot, _PILOT_QUANTILE)) * _RADIUS_FACTOR
     # A floor keeps the radius positive when the surfaces coincide (all pilot distances 0).
     extent = float(np.ptp(points, axis=0).max()) if len(points) > 1 else 1.0
     radius = max(radius, extent * 1e-6, 1e-12)
@@ -404,7 +411,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     if keep is not None:
         keep[1].update(triangle=tri, bary=bary, distance=d_samples)
     wanted = keep is not None and keep[0] is not None
-    d_verts, vertex_nearest, vertex_at = _vertex_distances(tree_b, verts, wanted, b)
+    d_verts, vertex_nearest, vertex_at = _vertex_distances(tree_b, verts, wanted, b, d_samples)
     if wanted:
         keep[1].update(vertex_nearest=vertex_nearest,
                        vertex_nearest_bary=_Deferred(_closest_bary, verts, vertex_nearest, *keep[0], vertex_at))
@@ -446,6 +453,9 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
     if len(seeds) == 0:
         return np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 3))
     best = np.concatenate(seed_bary)
+    # The points tried are about as far as their seeds: twice the farthest seed's distance
+    # bounds nearly every query (no pilot; those beyond it are asked again without a bound).
+    radius = _RADIUS_FACTOR * float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0)))
     trial_tri = np.repeat(seeds, CLIMB_TRIES)
     corners = v_a[f_a[trial_tri]]
     spread, found, tried = CLIMB_SPREAD, [], []
@@ -456,7 +466,7 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
         lost = total <= 1e-12  # (every coordinate clipped: the seed's point again)
         trial[lost], total[lost] = around[lost], 1.0
         trial /= total[:, None]
-        d = _distances(tree_b, np.einsum("ki,kij->kj", trial, corners))
+        d = _distances(tree_b, np.einsum("ki,kij->kj", trial, corners), radius=radius)
         found.append(d)
         tried.append(trial)
         pick = d.reshape(-1, CLIMB_TRIES).argmax(axis=1)
@@ -465,17 +475,23 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
     return np.concatenate(found), np.tile(trial_tri, CLIMB_ROUNDS), np.concatenate(tried)
 
 
-def _vertex_distances(tree_b, verts, with_faces, b) -> tuple:
+def _vertex_distances(tree_b, verts, with_faces, b, d_samples) -> tuple:
     """_distances_known for a's vertices ``verts`` (k, 3): each position queried once. A
     mesh split along its UV seams and hard edges has several vertices at one position
     (an imported CAD engine: 55,843 vertices at 36,206 positions), and each query is a
-    Python call; the answer for a position is the same for all its copies."""
+    Python call; the answer for a position is the same for all its copies. The search
+    radius comes from the area samples' distances ``d_samples`` where there are enough
+    of them (VERTEX_RADIUS_SAMPLES), as a pilot would measure it: no pilot."""
     from ._core import core
 
     first, inverse = core.geometry.distinct_points(verts)
     distinct = verts[first]
+    radius = None
+    if len(d_samples) >= VERTEX_RADIUS_SAMPLES and d_samples.max() > 0:
+        radius = float(np.quantile(d_samples, _PILOT_QUANTILE)) * _RADIUS_FACTOR
     found = _distances_known(tree_b, distinct, with_faces,
-                             *(_on_same_vertices(distinct, *b) if b is not None else (None, None, None)))
+                             *(_on_same_vertices(distinct, *b) if b is not None else (None, None, None)),
+                             radius=radius)
     return tuple(None if x is None else x[inverse] for x in found)
 
 
@@ -509,25 +525,26 @@ def _on_same_vertices(points, v_b, f_b) -> tuple:
     return on, face_of[vertex], at
 
 
-def _distances_known(tree, points, with_faces, known=None, known_face=None, known_at=None) -> tuple:
+def _distances_known(tree, points, with_faces, known=None, known_face=None, known_at=None,
+                     radius: Optional[float] = None) -> tuple:
     """(distances (k,), nearest triangle (k,) or None, barycentric (k, 3) or None): the
     points ``known`` (bool, or None) are at distance 0 on ``known_face`` at ``known_at``;
-    the tree is searched for the rest (``_distances``). Barycentric coordinates come back
-    only for the known points (NaN elsewhere: _closest_bary computes those)."""
+    the tree is searched for the rest (``_distances``, with ``radius``). Barycentric
+    coordinates come back only for the known points (NaN elsewhere: _closest_bary computes those)."""
     if known is None or not known.any():
         if not with_faces:
-            return _distances(tree, points), None, None
-        d, nearest = _distances(tree, points, with_faces=True)
+            return _distances(tree, points, radius=radius), None, None
+        d, nearest = _distances(tree, points, with_faces=True, radius=radius)
         return d, nearest, None
     d = np.zeros(len(points))
     rest = np.flatnonzero(~known)
     if not with_faces:
-        d[rest] = _distances(tree, points[rest])
+        d[rest] = _distances(tree, points[rest], radius=radius)
         return d, None, None
     nearest = np.zeros(len(points), dtype=np.int64)
     at = np.full((len(points), 3), np.nan)
     nearest[known], at[known] = known_face, known_at
-    d[rest], nearest[rest] = _distances(tree, points[rest], with_faces=True)
+    d[rest], nearest[rest] = _distances(tree, points[rest], with_faces=True, radius=radius)
     return d, nearest, at
 
 
