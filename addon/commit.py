@@ -216,8 +216,9 @@ def _switch_numbers(source, out, objects: list, levels: list, asset_switch: Opti
 
 def _copy_setup(source, lod, level: int, mesh_too: bool = True) -> None:
     """Give the new LOD object ``lod`` its source's place (its parent, transform and
-    constraints), materials, custom properties and Armature modifiers. ``mesh_too``: also fill its mesh's material list (False for a LOD
-    mesh another instance's LOD object already set up: the list is the mesh's, shared)."""
+    constraints), materials, custom properties and Armature modifiers. ``mesh_too``: also
+    fill its mesh's material list (False for a LOD mesh another instance's LOD object
+    already set up: the list is the mesh's, shared)."""
     lod.parent = source.parent
     lod.parent_type = source.parent_type
     if source.parent_type == 'BONE':

@@ -111,7 +111,7 @@ class InputSlivers:
     quality: np.ndarray  # (run faces,) triangle quality of each input face, by face_origin
     worst: np.ndarray  # (n,) the worst input face merged into each vertex so far
     allowance: object  # the share of slivers the LOD may have (sliver_allowance); per part (parts,) in a run of several
-    floor_off: object = False  # this pass: fewer slivers than the allowance, the floor is off (per part, like allowance)
+    floor_off: object = False  # this pass: fewer slivers than the allowance, the floor is off (by part too)
     stalled: bool = False  # the last pass took nothing
 
 
@@ -611,7 +611,8 @@ def _sliver_floor_off(s: State):
         return allowance > 0 and (s.slivers.stalled or slivers.within_allowance(s.V, s.F, allowance))
     if not allowance.any():
         return False
-    return (allowance > 0) & (s.slivers.stalled | slivers.parts_within_allowance(s.V, s.F, s.part[s.F[:, 0]], allowance))
+    within = slivers.parts_within_allowance(s.V, s.F, s.part[s.F[:, 0]], allowance)
+    return (allowance > 0) & (s.slivers.stalled | within)
 
 
 def _input_slivers_first(s: State, conn, cand):
@@ -629,7 +630,8 @@ def _input_slivers_first(s: State, conn, cand):
     if ranked is cand or not allowance.any():
         return ranked
     plain = allowance[s.part[cand.keep]] == 0
-    return selection.Candidates(cand.edge, cand.keep, cand.remove, cand.position, np.where(plain, ranked.cost, cand.cost))
+    cost = np.where(plain, ranked.cost, cand.cost)
+    return selection.Candidates(cand.edge, cand.keep, cand.remove, cand.position, cost)
 
 
 def _features(p: Problem, conn, face_normals, face_areas) -> tuple:

@@ -43,10 +43,7 @@ def sliver_allowance(input_quality) -> float:
     Decimate's Hausdorff distance (the engine's body_1 at 25 %), and Decimate's LODs have
     about the input's share of slivers (20-37 % on those parts)."""
     quality = np.asarray(input_quality)
-    if len(quality) == 0:
-        return 0.0
-    share = float(np.count_nonzero(quality < SLIVER_QUALITY)) / len(quality)
-    return share if share >= SLIVER_RICH_SHARE else 0.0
+    return float(part_allowances(quality, np.zeros(len(quality), dtype=np.int64), 1)[0])
 
 
 def part_allowances(input_quality, face_part, parts: int) -> np.ndarray:

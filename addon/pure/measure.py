@@ -427,8 +427,8 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
 
 
 def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
-    """(distances (c,), triangles (c,), barycentric coordinates (c, 3)) of the points tried climbing from the farthest of
-    a's area samples (on triangles ``tri`` at ``bary``, distances ``d_samples``) and of
+    """(distances (c,), triangles (c,), barycentric coordinates (c, 3)) of the points tried
+    climbing from the farthest of a's area samples (on triangles ``tri`` at ``bary``, distances ``d_samples``) and of
     its vertices ``used`` (distances ``d_verts``; from each, on every triangle around it)
     towards the largest distance to b's tree: CLIMB_ROUNDS rounds of CLIMB_TRIES random
     points around each seed's best point so far (see CLIMB_SEEDS). Seeds at distance 0

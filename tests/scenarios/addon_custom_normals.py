@@ -163,8 +163,8 @@ def normal_deviations() -> dict:
         def against_source(normals):
             return measure.normal_deviation(source.vertices, source.faces, source.corner_normals,
                                             lod.vertices, lod.faces, normals,
-                                            n_samples=int(deviation_search.SOURCE_SHARE * deviation_search.report_samples(
-                                                len(source.faces))))
+                                            n_samples=int(deviation_search.SOURCE_SHARE
+                                                          * deviation_search.report_samples(len(source.faces))))
 
         entry = {"has_custom": lod_mesh.has_custom_normals,
                  "report": [level[k] for k in ("normal_mean_degrees", "normal_p95_degrees")],
