@@ -106,9 +106,10 @@ def bake_keyed_sources(pairs) -> list:
     from .. import animation, mesh_io
 
     notes = []
+    names = {}  # the mesh's name before, per mesh (objects with modifiers may share one)
     for ob, data in pairs:
         old = ob.data
-        name = old.name
+        name = names.setdefault(old.as_pointer(), old.name)
         old.name = f"{name} (with modifiers)"
         mesh = mesh_io.build_mesh(name, data)
         ob.data = mesh
