@@ -320,6 +320,9 @@ def test_an_inputs_objects_switch_as_one_asset_in_the_glb(batches):
     assert asset["name"] == "scene" and asset["objects"] == 2
     path = batches[1]["out"] / "scene_LODs.glb"
     gltf = glb_json(path)
+    # Only the scene the LODs were made in: the file's other scene, "Storyboard", was
+    # written too before, its cube without LODs (the FBX and OBJ exporters write one).
+    assert len(gltf["scenes"]) == 1 and "Spare" not in {n["name"] for n in gltf["nodes"]}
     nodes = gltf["nodes"]
     by_name = {n["name"]: i for i, n in enumerate(nodes)}
     tops = [i for i, n in enumerate(nodes) if "MSFT_lod" in n.get("extensions", {})]

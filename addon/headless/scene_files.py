@@ -228,9 +228,11 @@ def export_scene(path: Path) -> None:
         # The hooks add MSFT_lod and the switch data (addon/gltf_lod.py).
         # The LODs' copies of their sources' shape-key animation are paused: gltf_lod
         # gives their nodes the sources' channels (addon/animation.py says why).
+        # use_active_scene: the scene the LODs were made in, as the FBX and OBJ exporters
+        # write it; the glTF exporter wrote a file's other scenes too, without LODs.
         with gltf_hooks_visible(), armature_deform_paused(), animation.key_copies_paused(bpy.context.scene):
             bpy.ops.export_scene.gltf(filepath=fp, export_format='GLB' if ext == ".glb" else 'GLTF_SEPARATE',
-                                      use_selection=False, export_apply=modifiers_to_apply())
+                                      use_selection=False, use_active_scene=True, export_apply=modifiers_to_apply())
     elif ext == ".fbx":
         # use_custom_props: the switch data on the LOD objects and the LOD group (docs/engines.md).
         bpy.ops.export_scene.fbx(filepath=fp, use_selection=False, use_mesh_modifiers=True,

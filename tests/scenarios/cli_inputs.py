@@ -61,7 +61,8 @@ def write_skinned_glb(out: str) -> None:
 def write_blend(out: str) -> None:
     """scene.blend: "Rock" (an icosphere of 320 triangles under a Subdivision Surface
     modifier: 1,280 evaluated, which its LOD0 in a .glb must have too), "Slab" (a wavy
-    sheet with the vertex group "Detail" on one half), and a camera, which is not a mesh."""
+    sheet with the vertex group "Detail" on one half), and a camera, which is not a mesh;
+    a second scene "Storyboard" holds a cube "Spare" (the file opens on the first)."""
     empty_scene()
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
     bpy.context.active_object.name = "Rock"
@@ -74,6 +75,10 @@ def write_blend(out: str) -> None:
     slab.data.vertices.foreach_set("co", co.ravel())
     slab.vertex_groups.new(name="Detail").add(np.flatnonzero(co[:, 0] < 0).tolist(), 1.0, 'REPLACE')
     bpy.ops.object.camera_add(location=(0, -5, 2))
+    storyboard = bpy.data.scenes.new("Storyboard")
+    spare = bpy.data.meshes.new("Spare")
+    spare.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+    storyboard.collection.objects.link(bpy.data.objects.new("Spare", spare))
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, "scene.blend"))
 
 
