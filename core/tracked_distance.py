@@ -204,8 +204,9 @@ class TrackedDistance:
         beyond = np.bincount(owner[d > point_bound], minlength=c) > 0
         beyond_limit = False if self._limit_frame is None else np.bincount(owner[d > point_limit], minlength=c) > 0
 
-        face_far, lod_worst, vertex = self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face,
-                                                          moved, moving, ring, CLOSE_ENOUGH * collapse_bound, c)
+        face_far, lod_worst, vertex = self._lod_to_source_of(~beyond, new_tri, is_new, collapse, ids, point, home,
+                                                             new_face, moved, moving, ring,
+                                                             CLOSE_ENOUGH * collapse_bound, c)
         ok = ~beyond & (lod_worst <= collapse_bound)
         present = np.zeros(c, dtype=bool)
         present[collapse] = True
@@ -220,6 +221,29 @@ class TrackedDistance:
                               edges[collapse[rows_ok]], ids[rows_ok], face_far[rows_ok],
                               edges[ok], keep[ok], vertex[ok]))
         return ok
+
+    def _lod_to_source_of(self, wanted, new_tri, is_new, collapse, ids, point, home, new_face, moved, moving, ring,
+                          limit, c) -> tuple:
+        """_lod_to_source for the collapses ``wanted`` (c,) bool says (those the source's
+        points already put beyond the bound need no more: in a tight bound's tail nearly
+        every collapse tried is, and measuring the LOD's side of each was most of a pass).
+        Under painted limits every collapse is measured: which limit rejects it (the bound
+        or its region's) needs both sides."""
+        if self._limit_frame is not None or wanted.all():
+            return self._lod_to_source(new_tri, is_new, collapse, ids, point, home, new_face, moved, moving, ring,
+                                       limit, c)
+        rows_kept = np.flatnonzero(wanted[collapse])
+        renumber = np.full(len(collapse), -1, dtype=np.int64)
+        renumber[rows_kept] = np.arange(len(rows_kept))
+        points_kept = np.flatnonzero(wanted[collapse[home]])
+        kept_face = new_face[points_kept]
+        face_far_kept, worst, vertex = self._lod_to_source(
+            new_tri[rows_kept], is_new[rows_kept], collapse[rows_kept], ids[rows_kept], point[points_kept],
+            renumber[home[points_kept]], np.where(kept_face >= 0, renumber[kept_face], -1), moved[rows_kept],
+            moving[rows_kept], ring[rows_kept], limit, c)
+        face_far = np.zeros(len(collapse))
+        face_far[rows_kept] = face_far_kept
+        return face_far, worst, vertex
 
     def _lod_to_source(self, new_tri, is_new, collapse, ids, point, home, new_face, moved, moving, ring, limit,
                        c) -> tuple:

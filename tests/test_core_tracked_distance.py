@@ -160,3 +160,30 @@ def test_a_level_under_max_error_ends_when_its_passes_crawl_with_every_rule_rela
     for s in (state(len(ladder) - 2), state(len(ladder) - 1, global_bound=False)):
         assert not any(engine._crawling_under_bound(s, 0, faces) for _ in range(3 * engine.BOUND_CRAWL_PASSES))
     assert not engine._crawling_under_bound(SimpleNamespace(bound=None), 0, faces)
+
+
+def test_collapses_the_source_side_rejects_skip_the_lod_side_and_the_result_is_the_same(monkeypatch):
+    """The LOD side of a collapse is measured only where the source's points left it within
+    the bound (TrackedDistance._lod_to_source_of): the same LODs as measuring both sides
+    of every collapse, with fewer collapses measured on the LOD side."""
+    from core.tracked_distance import TrackedDistance
+
+    V, F = build.grid(24, height=build.bumps(0.12, 1.5))
+    measured = {"staged": 0, "full": 0}
+    whole = TrackedDistance._lod_to_source
+
+    def counting(key):
+        def lod_to_source(self, new_tri, *args):
+            measured[key] += len(np.unique(args[1]))  # (the collapses of the rows measured)
+            return whole(self, new_tri, *args)
+        return lod_to_source
+
+    monkeypatch.setattr(TrackedDistance, "_lod_to_source", counting("staged"))
+    staged = core.simplify_chain(V, F, [0, 0], max_error=[0.01, 0.03])
+    monkeypatch.setattr(TrackedDistance, "_lod_to_source_of",
+                        lambda self, wanted, *args: TrackedDistance._lod_to_source(self, *args))
+    monkeypatch.setattr(TrackedDistance, "_lod_to_source", counting("full"))
+    full = core.simplify_chain(V, F, [0, 0], max_error=[0.01, 0.03])
+    for a, b in zip(staged, full):
+        assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+    assert measured["staged"] < measured["full"], measured
