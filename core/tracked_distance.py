@@ -195,10 +195,31 @@ class TrackedDistance:
             if len(far):
                 new_rows = np.flatnonzero(is_new)
                 groups = _Groups(collapse[new_rows], c)
-                d2_far, row = groups.nearest(xyz[far], owner[loose[far]], lambda m: new_tri[new_rows[m]])
-                better = d2_far < d2[far]
-                d2[far[better]] = d2_far[better]
-                face_of[far[better]] = new_rows[row[better]]
+
+                def search(which):
+                    d2_far, row = groups.nearest(xyz[which], owner[loose[which]], lambda m: new_tri[new_rows[m]])
+                    better = d2_far < d2[which]
+                    d2[which[better]] = d2_far[better]
+                    face_of[which[better]] = new_rows[row[better]]
+
+                # Under max_error alone, the farthest of each collapse's far points first:
+                # where even its nearest new face is beyond the bound, the collapse is
+                # rejected and its other points need no search (in a tight bound's tail,
+                # most collapses tried). (Painted limits search them all: which limit
+                # rejects a collapse needs every point's distance.)
+                if self._limit_frame is not None:
+                    search(far)
+                    far = far[:0]
+                far_owner = owner[loose[far]]
+                order = np.lexsort((d2[far], far_owner))
+                last = np.ones(len(far), dtype=bool)
+                last[:-1] = far_owner[order[1:]] != far_owner[order[:-1]]
+                farthest = far[order[last]]
+                search(farthest)
+                out = np.zeros(c, dtype=bool)
+                out[owner[loose[farthest]]] = d2[farthest] > point_bound[loose[farthest]] ** 2
+                rest = far[order[~last]]
+                search(rest[~out[owner[loose[rest]]]])
             d[loose] = np.sqrt(d2)
             new_face[loose] = face_of
         beyond = np.bincount(owner[d > point_bound], minlength=c) > 0
