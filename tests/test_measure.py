@@ -163,6 +163,48 @@ def test_part_deviations_give_each_part_its_own_distance(brute_trees):
     assert np.isnan(h[3]) and np.isnan(m[3])  # a part neither surface has
 
 
+def test_the_normals_angles_come_from_the_closest_points_a_measurement_kept(brute_trees):
+    # (compute.level_report: a level the deviation search measured gets its normals from
+    # the points it kept, with no query of its own)
+    from core.shading import corner_normals
+
+    v, f = grid(6, jitter=0.2)
+    lod_v = v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])]
+    normals = (corner_normals(v, f, np.ones(len(f), bool)), corner_normals(lod_v, f[::2], np.ones(len(f) // 2, bool)))
+    with_normals = measure.surface_deviation(v, f, lod_v, f[::2], n_samples=(300, 200), normals=normals)
+    kept = measure.surface_deviation(v, f, lod_v, f[::2], n_samples=(300, 200), keep_samples=True)
+    later = measure.normal_keys_of(kept["sampled"], *normals)
+    assert later["normal_max_degrees"] > 1.0
+    for key in ("normal_mean_degrees", "normal_p95_degrees", "normal_max_degrees", "normal_points"):
+        assert later[key] == with_normals[key], key
+
+
+def test_a_level_the_search_measured_gets_its_normals_with_no_query(brute_trees, monkeypatch):
+    from addon.pure import compute, deviation_search
+    from addon.pure.mesh_data import MeshData, shading_normals
+
+    def mesh(v, f):
+        m = len(f)
+        return MeshData(vertices=v, faces=f, material_index=np.zeros(m, np.int64), smooth=np.ones(m, bool),
+                        smooth_group=np.zeros(m, np.int64))
+
+    v, f = grid(6, jitter=0.2)
+    data, level = mesh(v, f), mesh(v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])], f[::2])
+    data.corner_normals = shading_normals(data)
+    expected = deviation_search.deviation_report(data, level, (data.corner_normals, shading_normals(level)))
+    searched = deviation_search.deviation_report(data, level)  # (as the search measures: no normals)
+
+    def no_query(*args, **kwargs):
+        raise AssertionError("measured again")
+
+    monkeypatch.setattr(measure, "normal_deviation", no_query)
+    monkeypatch.setattr(measure, "_distances", no_query)
+    report = compute.level_report(data, level, searched)
+    assert report["normal_max_degrees"] > 1.0
+    for key in compute.NORMAL_KEYS + ("hausdorff", "mean"):
+        assert report[key] == expected[key], key
+
+
 def _split_at(v, f, x):
     """(vertices, faces) of the mesh cut along the line of vertices at ``x``: the faces
     beyond it get copies of those vertices, as an importer splits a mesh at a UV seam."""

@@ -178,6 +178,8 @@ def level_report(data: MeshData, level: MeshData, measured: Optional[dict],
         return deviation_search.deviation_report(data, level, normals, part_samples)
     if normals is None or "normal_mean_degrees" in measured:
         return measured
+    if "sampled" in measured:  # (the closest points it kept give the normals' angles: no query)
+        return dict(measured, **measure.normal_keys_of(measured["sampled"], *normals))
     angles = measure.normal_deviation(data.vertices, data.faces, normals[0], level.vertices, level.faces, normals[1],
                                       n_samples=report_samples(len(data.faces), part_samples))
     return dict(measured, **{key: angles[key] for key in NORMAL_KEYS})

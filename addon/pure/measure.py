@@ -810,3 +810,11 @@ def mesh_report(src_v, src_f, dst_v, dst_f, **deviation_options) -> dict:
     report["src_faces"] = int(np.shape(src_f)[0])
     report["dst_faces"] = int(np.shape(dst_f)[0])
     return report
+
+
+def normal_keys_of(sampled: Sampled, src_normals, dst_normals) -> dict:
+    """normal_deviation's keys from the closest points a measurement kept (``sampled``,
+    surface_deviation(keep_samples=True)), with no query: the same numbers as measuring
+    with normals=(src_normals, dst_normals) gives."""
+    return _normal_keys(_normal_angles(sampled.src_triangle, sampled.src_bary, sampled.src_nearest,
+                                       sampled.src_nearest_bary, src_normals, dst_normals))
