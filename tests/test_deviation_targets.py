@@ -116,6 +116,25 @@ def test_tracked_bounds_end_within_and_close(overshoot):
     assert all(f.hausdorff >= dt.TRACKED_CLOSE * f.deviation for f in found) or len(runs) == dt.TRACKED_RUNS
 
 
+def test_a_run_again_stops_at_the_last_level_that_needs_it():
+    """Only the first level comes out beyond: the run again makes that level alone, and
+    the others keep what the first run made (a CAD engine's run paid its whole tail for
+    a first level run again)."""
+    runs = []
+
+    def run(bounds):
+        runs.append(list(bounds))
+        levels = [_FakeLevel(int(1000 / b)) for b in bounds]
+        for i, (level, b) in enumerate(zip(levels, bounds)):
+            level.measured = (1.8 if i == 0 else 1.0) * b
+        return levels
+
+    found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, lambda level: level.measured)
+    assert len(runs) >= 2 and all(len(r) == 1 for r in runs[1:]), runs
+    assert all(f.level is not None and f.hausdorff <= f.deviation for f in found), found
+    assert [f.hausdorff for f in found[1:]] == [dt.TRACKED_SHARE * 2.0, dt.TRACKED_SHARE * 4.0]
+
+
 def test_a_bound_that_allows_no_collapse_is_no_lod_and_is_loosened():
     runs = []
 

@@ -183,18 +183,20 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
     deviation (to TRACKED_AIM of it, by a factor in [0.5, 2]): smaller where it came out
     beyond, larger where it came out needlessly close (under TRACKED_CLOSE). The
     coarsest level measured within is kept; a level no collapse made is no LOD (its next
-    bound is the whole deviation).
+    bound is the whole deviation). A run again makes the levels up to the last one that
+    needs it.
     """
     deviations = [float(d) for d in deviations]
     shares = [TRACKED_SHARE] * len(deviations)
     found = [Found(d, None, float("nan")) for d in deviations]
+    levels = len(deviations)  # how many levels the next run makes
     for _ in range(TRACKED_RUNS):
-        bounds = list(np.maximum.accumulate([share * d for share, d in zip(shares, deviations)]))
-        again = False
+        bounds = list(np.maximum.accumulate([share * d for share, d in zip(shares, deviations)]))[:levels]
+        again = -1  # the last level that runs again
         for i, level in enumerate(run(bounds)):
             if level.stats.collapses == 0:  # the bound allowed no collapse at all
                 if shares[i] < 1.0:
-                    shares[i], again = 1.0, True
+                    shares[i], again = 1.0, i
                 continue
             best = found[i].level
             if best is not None and len(level.faces) >= len(best.faces):
@@ -206,9 +208,13 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
                 # Relative to the bound this level was given (the chain may have raised it).
                 factor = TRACKED_AIM * deviations[i] / max(hausdorff, 1e-12 * deviations[i])
                 shares[i] = bounds[i] / deviations[i] * min(max(factor, 0.5), 2.0)
-                again = True
-        if not again:
+                again = i
+        if again < 0:
             break
+        # A run again stops at the last level that needs it: the levels after it keep
+        # what they have (the chain's levels need not come from one run), and a CAD
+        # engine's run paid its whole tail for a first level run again.
+        levels = again + 1
     return coarser_each(found)
 
 
