@@ -183,9 +183,11 @@ def test_a_part_of_an_asset_is_measured_by_its_area_share_and_its_size():
     floor = ds.ASSET_PART_SAMPLES_MIN
     asset = ds.report_samples(96_000)
     assert ds.part_samples(0.5, 96_000, 48_000) == int(np.ceil(0.5 * asset))  # its share
-    assert ds.part_samples(1e-4, 96_000, 320) == 320  # a small part: one a triangle
+    assert ds.part_samples(1e-4, 96_000, floor // 2) == floor // 2  # a small part: one a triangle
     assert ds.part_samples(1e-4, 96_000, 10 * floor) == floor  # a large one with little area
     assert ds.part_samples(0.0, 96_000, 0) == 1
-    # 300 equal parts: together about the asset's own count, not 300 x the floor.
+    # 300 equal parts of 320 triangles: the floor or one a triangle, whichever is fewer,
+    # where its share is less; together a small multiple of what the asset gets as one.
     parts = [ds.part_samples(1 / 300, 96_000, 320) for _ in range(300)]
-    assert sum(parts) <= 300 * 320 and sum(parts) < 300 * floor / 2
+    assert parts == [max(min(floor, 320), int(np.ceil(asset / 300)))] * 300
+    assert sum(parts) <= 4 * asset
