@@ -208,9 +208,9 @@ def run_asset(path: Path, ratios: list, repeat: int = 1) -> list:
             dec = base[1][k - 1]
             rows.append(row(path.name, n_objects, f"{triangles:,}", way, f"LOD{k}", f"{tri:,}",
                             f"{hausdorff:.3f}", f"{hausdorff / dec[1]:.2f}x" if dec[1] > 0 else "-",
-                            f"{mean:.4f}", f"{seconds:.1f}" if k == 1 else "",
-                            f"{seconds / base[0]:.1f}x" if k == 1 else "",
-                            (f"{seconds / rigged[0]:.1f}x" if rigged else "-") if k == 1 else ""))
+                            f"{mean:.4f}", f"{seconds:.2f}" if k == 1 else "",
+                            f"{seconds / base[0]:.2f}x" if k == 1 else "",
+                            (f"{seconds / rigged[0]:.2f}x" if rigged else "-") if k == 1 else ""))
     return rows
 
 
