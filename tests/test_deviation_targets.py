@@ -135,31 +135,6 @@ def test_a_run_again_stops_at_the_last_level_that_needs_it():
     assert [f.hausdorff for f in found[1:]] == [dt.TRACKED_SHARE * 2.0, dt.TRACKED_SHARE * 4.0]
 
 
-def test_the_lean_search_runs_again_only_where_its_first_run_pays():
-    """The lean search's first run has the first search's first bounds: where it saves
-    no level a tenth of its triangles there (and the first search found every level), it
-    does not run again; where it saves one, or a level is missing, it goes on."""
-    run, runs, exact = _fake_core(1.8)  # (every level beyond at first: the search runs again)
-    first = []
-    found = dt.by_tracked_bounds([1.0, 2.0], run, exact, first_runs=first)
-    assert len(first) == 1 and [len(level.faces) for level in first[0]] == [int(1000 / b) for b in runs[0]]
-    assert all(f.level is not None for f in found)
-    for lean_share, runs_expected in ((0.95, 1), (0.8, None)):
-        lean_runs = []
-
-        def lean(bounds):
-            lean_runs.append(list(bounds))
-            levels = [_FakeLevel(int(lean_share * 1000 / b)) for b in bounds]
-            for level, b in zip(levels, bounds):
-                level.measured = 1.8 * b
-            return levels
-
-        dt.by_tracked_bounds([1.0, 2.0], lean, lambda level: level.measured, go_on=dt.lean_pays(first[0], found))
-        assert len(lean_runs) == 1 if runs_expected == 1 else len(lean_runs) > 1, (lean_share, lean_runs)
-    missing = [dt.Found(1.0, None, float("nan")), found[1]]
-    assert dt.lean_pays(first[0], missing)([_FakeLevel(len(level.faces)) for level in first[0]])
-
-
 def test_a_bound_that_allows_no_collapse_is_no_lod_and_is_loosened():
     runs = []
 

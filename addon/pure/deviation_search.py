@@ -104,10 +104,8 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         return measured[id(level)]["hausdorff"]
 
     per_level = _level_limits(lod_input)
-    first = []
     found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **per_level), exact,
-        first_runs=first)
+        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **per_level), exact)
     options = lod_input.core_options
     if options.line_weights is None and options.pose_offsets is None:
         # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
@@ -115,8 +113,7 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
                 "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
         found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
             lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean,
-                                                          **per_level), exact,
-            go_on=deviation_targets.lean_pays(first[0] if first else None, found)))
+                                                          **per_level), exact))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -275,14 +272,12 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
             worst = max(worst, report["hausdorff"] * scale)
         return worst
 
-    first = []
-    found = deviation_targets.by_tracked_bounds(deviations, run, exact, first_runs=first)
+    found = deviation_targets.by_tracked_bounds(deviations, run, exact)
     if all(i.core_options.line_weights is None and i.core_options.pose_offsets is None for i in inputs):
         lean = {"line_weights": options.line_weights * deviation_targets.LEAN_LINE_WEIGHT,
                 "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
         found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            deviations, lambda bounds: run(bounds, **lean), exact,
-            go_on=deviation_targets.lean_pays(first[0] if first else None, found)))
+            deviations, lambda bounds: run(bounds, **lean), exact))
     # A level no run met repeats the one before, the whole asset at LOD1, as a part of
     # an asset does in its own search (by_deviation): every part is in every level.
     previous = None

@@ -173,8 +173,7 @@ class Found:
 
 
 def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
-                      exact: Callable[[object], float], first_runs: Optional[list] = None,
-                      go_on: Optional[Callable[[list], bool]] = None) -> list:
+                      exact: Callable[[object], float]) -> list:
     """A Found per requested deviation (increasing), from runs of the core with
     ``max_error`` bounds.
 
@@ -185,20 +184,16 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
     beyond, larger where it came out needlessly close (under TRACKED_CLOSE). The
     coarsest level measured within is kept; a level no collapse made is no LOD (its next
     bound is the whole deviation). A run again makes the levels up to the last one that
-    needs it. ``first_runs``: a list that gets the first run's levels; ``go_on(levels)``:
-    whether to run again after that first run at all (lean_pays).
+    needs it.
     """
     deviations = [float(d) for d in deviations]
     shares = [TRACKED_SHARE] * len(deviations)
     found = [Found(d, None, float("nan")) for d in deviations]
     levels = len(deviations)  # how many levels the next run makes
-    for attempt in range(TRACKED_RUNS):
+    for _ in range(TRACKED_RUNS):
         bounds = list(np.maximum.accumulate([share * d for share, d in zip(shares, deviations)]))[:levels]
         again = -1  # the last level that runs again
-        made = run(bounds)
-        if attempt == 0 and first_runs is not None:
-            first_runs.append(made)
-        for i, level in enumerate(made):
+        for i, level in enumerate(run(bounds)):
             if level.stats.collapses == 0:  # the bound allowed no collapse at all
                 if shares[i] < 1.0:
                     shares[i], again = 1.0, i
@@ -214,28 +209,13 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list], list],
                 factor = TRACKED_AIM * deviations[i] / max(hausdorff, 1e-12 * deviations[i])
                 shares[i] = bounds[i] / deviations[i] * min(max(factor, 0.5), 2.0)
                 again = i
-        if again < 0 or (attempt == 0 and go_on is not None and not go_on(made)):
+        if again < 0:
             break
         # A run again stops at the last level that needs it: the levels after it keep
         # what they have (the chain's levels need not come from one run), and a CAD
         # engine's run paid its whole tail for a first level run again.
         levels = again + 1
     return coarser_each(found)
-
-
-def lean_pays(first: Optional[list], found: list, min_saving: float = LEAN_MIN_SAVING) -> Callable[[list], bool]:
-    """go_on for the lean search (by_tracked_bounds): whether it runs again after its
-    first run, which had the same bounds as the first run of the search with the artist's
-    controls (``first``: that run's levels, or None: not known). Only where a level is
-    missing from that search's ``found`` (Found), or the lean run has at least
-    ``min_saving`` fewer triangles at the same bound somewhere (fewest_each keeps it
-    nowhere else): on the CAD engine's parts it saved under 1 % at the first bounds, and
-    its runs again were a fifth of the search."""
-    def go_on(lean: list) -> bool:
-        if first is None or any(f.level is None for f in found):
-            return True
-        return any(len(b.faces) <= (1.0 - min_saving) * len(a.faces) for a, b in zip(first, lean))
-    return go_on
 
 
 def coarser_each(found: list) -> list:

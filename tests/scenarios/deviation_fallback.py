@@ -13,7 +13,7 @@ def run() -> dict:
     tracked = targets.by_tracked_bounds
     calls = []
 
-    def nothing_within(deviations, run, exact, first_runs=None, go_on=None):
+    def nothing_within(deviations, run, exact):
         calls.append(len(deviations))
         return [targets.Found(d, None, float("nan")) for d in deviations]
 
