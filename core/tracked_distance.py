@@ -209,17 +209,17 @@ class TrackedDistance:
                 # rejects a collapse needs every point's distance.)
                 if self._limit_frame is not None:
                     search(far)
-                    far = far[:0]
-                far_owner = owner[loose[far]]
-                order = np.lexsort((d2[far], far_owner))
-                last = np.ones(len(far), dtype=bool)
-                last[:-1] = far_owner[order[1:]] != far_owner[order[:-1]]
-                farthest = far[order[last]]
-                search(farthest)
-                out = np.zeros(c, dtype=bool)
-                out[owner[loose[farthest]]] = d2[farthest] > point_bound[loose[farthest]] ** 2
-                rest = far[order[~last]]
-                search(rest[~out[owner[loose[rest]]]])
+                else:
+                    far_owner = owner[loose[far]]
+                    order = np.lexsort((d2[far], far_owner))
+                    last = np.ones(len(far), dtype=bool)
+                    last[:-1] = far_owner[order[1:]] != far_owner[order[:-1]]
+                    farthest = far[order[last]]
+                    search(farthest)
+                    out = np.zeros(c, dtype=bool)
+                    out[owner[loose[farthest]]] = d2[farthest] > point_bound[loose[farthest]] ** 2
+                    rest = far[order[~last]]
+                    search(rest[~out[owner[loose[rest]]]])
             d[loose] = np.sqrt(d2)
             new_face[loose] = face_of
         beyond = np.bincount(owner[d > point_bound], minlength=c) > 0
