@@ -210,6 +210,19 @@ def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: i
     return owner, corners
 
 
+def gather_corners_of_each(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> tuple:
+    """gather_vertex_corners where a vertex may be listed more than once (collapses that
+    are not independent): every listing gets all the vertex's corners. Returns (owner
+    (c,), corners (c,)), owner in ascending order. One sort of all the corners by vertex."""
+    flat = faces.ravel()
+    order = np.argsort(flat, kind="stable")
+    start = np.searchsorted(flat[order], vertices, side="left")
+    count = np.searchsorted(flat[order], vertices, side="right") - start
+    owner = np.repeat(np.arange(len(vertices), dtype=np.int64), count)
+    first = np.repeat(start - (np.cumsum(count) - count), count)
+    return owner, order[first + np.arange(len(owner))]
+
+
 def fans_per_vertex(conn: Connectivity, faces: np.ndarray, n_vertices: int) -> np.ndarray:
     """(n,) the number of fans around each vertex: groups of its faces joined across
     interior edges at the vertex. A manifold vertex has one (zero if unused).

@@ -41,43 +41,15 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         return np.zeros(0, dtype=bool)
     n = len(s.V)
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
-    owner, corners = topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window)
-    from_keep = owner < c
-    collapse = np.where(from_keep, owner, owner - c)
-    faces = corners // 3
-    corner_vertex = s.F.ravel()
-    # Each gathered corner is the moving end itself; its face's other two corners stay put
-    # (or one of them is the other end, and the face dies with the edge).
-    nb_next = corner_vertex[topology.next_corner(corners)]
-    nb_prev = corner_vertex[topology.previous_corner(corners)]
-    other_end = np.where(from_keep, remove[collapse], keep[collapse])
-    dying = (nb_next == other_end) | (nb_prev == other_end)
-
-    # Around a closed fan every neighbour follows the moving corner exactly once, so the
-    # preceding neighbours add nothing; only open fans (borders) and pinched or locked
-    # vertices need both to see their whole ring.
-    moving = corner_vertex[corners]
-    open_fan = conn.border_vertex[moving] | s.locked[moving] | s.complex[moving]
+    ring = _rings(s, cand, chosen, *topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window))
+    collapse, from_keep, faces, moving, nb_next, nb_prev, other_end, dying = ring
     edge = cand.edge[chosen]
-    ok = _link_condition(conn, edge, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n)
+    ok = _link_condition(conn, edge, nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep, collapse, c, n)
     opposite0, opposite1 = opposite
     ok &= _no_vertex_left_bare(s.face_count, faces_taken, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
-
-    source = rows(s.source_normals, s.face_origin[faces])
+    ok &= _corners_kept(s, conn, keep, remove, pos, ring, c)
     guards = s.guards
-    floor_off = s.slivers.floor_off  # core.slivers.sliver_allowance; per part in a run of several
-    if np.ndim(floor_off) == 0:
-        floor = 0.0 if floor_off else guards.min_quality
-    else:
-        floor = np.where(floor_off[s.part[keep]], 0.0, guards.min_quality)[collapse]
-    if np.any(floor > 0) and conn.border_vertex.any():
-        floor = slivers.border_floors(floor, s.slivers.worst, conn.border_vertex, keep, remove,
-                                      nb_next, nb_prev, collapse)
-    bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
-                        dying, collapse, c, source, guards.min_normal_cosine, floor)
-    ok &= np.bincount(collapse[bad], minlength=c) == 0
-
     if s.wedges is not None:
         ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
                                 guards.min_uv_area_kept, guards.uv_flip)
@@ -96,6 +68,72 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         ok &= s.bound.tracker.within(s.bound.limit, s.face_origin, faces[fan], collapse[fan], new_tri, ~dying[fan], ring,
                                moving[fan], moved, keep, edge)
     return ok
+
+
+def screened(s, conn, cand, idx) -> np.ndarray:
+    """(len(idx),) bool: which of the candidates ``idx`` (indices into ``cand``, not
+    necessarily independent) pass the rules that judge a collapse by itself on the mesh
+    as it is: the link condition and the corner rules (turn, fold-over, degenerate,
+    sliver; corner_breaks). A collapse either of them rejects is rejected in any
+    independent set of a pass too, so a pass may drop it before choosing (engine's
+    screening, where most of the cheapest candidates fail them). The rules that depend
+    on the other collapses of the pass (vertices left bare, UV wedges) or are costly
+    (max_error) wait for valid_collapses."""
+    c = len(idx)
+    if c == 0:
+        return np.zeros(0, dtype=bool)
+    n = len(s.V)
+    keep, remove = cand.keep[idx], cand.remove[idx]
+    ring = _rings(s, cand, idx, *topology.gather_corners_of_each(s.F, np.concatenate([keep, remove]), n))
+    collapse, from_keep, _, moving, nb_next, nb_prev, other_end, _ = ring
+    ok = _link_condition(conn, cand.edge[idx], nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep,
+                         collapse, c, n)
+    return ok & _corners_kept(s, conn, keep, remove, cand.position[idx], ring, c)
+
+
+def _rings(s, cand, chosen, owner, corners) -> tuple:
+    """Per gathered corner of both ends of the ``chosen`` collapses (owner: the position
+    in keep + remove whose corner it is): (collapse it belongs to, whether of the kept
+    end, its face, the moving vertex, the face's next and previous corners' vertices,
+    the collapse's other end, whether the face dies with the edge)."""
+    c = len(chosen)
+    keep, remove = cand.keep[chosen], cand.remove[chosen]
+    from_keep = owner < c
+    collapse = np.where(from_keep, owner, owner - c)
+    corner_vertex = s.F.ravel()
+    # Each gathered corner is the moving end itself; its face's other two corners stay put
+    # (or one of them is the other end, and the face dies with the edge).
+    nb_next = corner_vertex[topology.next_corner(corners)]
+    nb_prev = corner_vertex[topology.previous_corner(corners)]
+    other_end = np.where(from_keep, remove[collapse], keep[collapse])
+    dying = (nb_next == other_end) | (nb_prev == other_end)
+    return collapse, from_keep, corners // 3, corner_vertex[corners], nb_next, nb_prev, other_end, dying
+
+
+def _open_fan(s, conn, moving) -> np.ndarray:
+    """Around a closed fan every neighbour follows the moving corner exactly once, so the
+    preceding neighbours add nothing; only open fans (borders) and pinched or locked
+    vertices need both to see their whole ring."""
+    return conn.border_vertex[moving] | s.locked[moving] | s.complex[moving]
+
+
+def _corners_kept(s, conn, keep, remove, pos, ring, c) -> np.ndarray:
+    """(c,) bool: collapses none of whose faces turns over, vanishes or becomes a sliver
+    (corner_breaks, at the floors in force)."""
+    collapse, _, faces, moving, nb_next, nb_prev, _, dying = ring
+    source = rows(s.source_normals, s.face_origin[faces])
+    guards = s.guards
+    floor_off = s.slivers.floor_off  # core.slivers.sliver_allowance; per part in a run of several
+    if np.ndim(floor_off) == 0:
+        floor = 0.0 if floor_off else guards.min_quality
+    else:
+        floor = np.where(floor_off[s.part[keep]], 0.0, guards.min_quality)[collapse]
+    if np.any(floor > 0) and conn.border_vertex.any():
+        floor = slivers.border_floors(floor, s.slivers.worst, conn.border_vertex, keep, remove,
+                                      nb_next, nb_prev, collapse)
+    bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
+                        dying, collapse, c, source, guards.min_normal_cosine, floor)
+    return np.bincount(collapse[bad], minlength=c) == 0
 
 
 def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,

@@ -245,10 +245,10 @@ def test_later_selection_rounds_take_only_the_cheap_part_of_the_share(monkeypatc
     rounds = []  # per selection round: (round in its pass, later-round limit, pass limit, costs taken)
     choose, independent_set = engine._choose, selection.independent_set
 
-    def spy_choose(s, conn, cand, n, seed, pass_no, share):
+    def spy_choose(s, conn, cand, n, seed, pass_no, share, failed=None):
         pass_limit, later_limit = engine._cost_quantiles(cand.cost, (share, share * engine.LATER_ROUND_SHARE))
         rounds.append((0, max(later_limit, engine.ORDER_FREE_COST), pass_limit, None))
-        return choose(s, conn, cand, n, seed, pass_no, share)
+        return choose(s, conn, cand, n, seed, pass_no, share, failed)
 
     def spy_independent_set(cand, conn, n, seed, eligible=None):
         chosen = independent_set(cand, conn, n, seed, eligible)
