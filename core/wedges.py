@@ -18,6 +18,23 @@ MIN_UV_DOUBLE_AREA = 1e-18
 WEDGE_TOLERANCE = 1e-6  # relative to each column's span (at least 1)
 
 
+def _distinct_rows(rows: np.ndarray) -> tuple:
+    """np.unique(rows, axis=0, return_index=True, return_inverse=True)'s index and inverse
+    for a (k, w) float array: one stable sort of the columns (np.lexsort, last key first)
+    and a comparison of neighbours. np.unique over rows took 2.3x as long (the CAD
+    engine's 214,434 corners: 0.070 s against 0.030 s), for the same arrays."""
+    if len(rows) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    order = np.lexsort(rows.T[::-1])
+    ordered = rows[order]
+    starts = np.empty(len(rows), dtype=bool)
+    starts[0] = True
+    np.any(ordered[1:] != ordered[:-1], axis=1, out=starts[1:])
+    inverse = np.empty(len(rows), dtype=np.int64)
+    inverse[order] = np.cumsum(starts) - 1
+    return order[starts], inverse
+
+
 class Wedges:
     def __init__(self, values, corner_wedge, layout, uv_columns):
         self.values = values  # (w, K) all corner attributes side by side
@@ -40,7 +57,7 @@ class Wedges:
         span = np.maximum(np.ptp(values, axis=0), 1.0) if len(values) else np.ones(values.shape[1])
         quantised = np.round(values / (WEDGE_TOLERANCE * span))
         rows = np.concatenate([faces.reshape(-1, 1).astype(np.float64), quantised], axis=1)
-        _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+        first, inverse = _distinct_rows(rows)
         return cls(
             values=np.ascontiguousarray(values[first]),
             corner_wedge=inverse.reshape(m, 3).astype(np.int64),

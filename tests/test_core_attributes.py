@@ -519,3 +519,19 @@ def test_a_seamless_uv_map_beside_a_seamed_one():
     assert r.corner_attributes["uv"].shape == (len(r.faces), 3, 2)
     if r.stats.relaxation_step < SEAMS_FREE:
         _check_uvs(V, F, UV, None, r)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 300), st.integers(1, 5), st.integers(0, 2**31 - 1))
+def test_distinct_corner_rows_are_numpys_unique_rows(rows, width, seed):
+    """Wedges.build's grouping of corner rows (vertex, quantised values) is
+    np.unique(axis=0)'s, index and inverse alike, repeats, -0.0 and 0.0 included."""
+    from core.wedges import _distinct_rows
+
+    rng = np.random.default_rng(seed)
+    values = rng.integers(-2, 3, size=(rows, width)).astype(np.float64)
+    values[rng.random(values.shape) < 0.1] = -0.0
+    _, first, inverse = np.unique(values, axis=0, return_index=True, return_inverse=True)
+    got_first, got_inverse = _distinct_rows(values)
+    assert np.array_equal(got_first, first)
+    assert np.array_equal(got_inverse, inverse.reshape(-1))
