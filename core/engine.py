@@ -197,6 +197,7 @@ class State:
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     bound_crawl: int = 0  # the same under a distance bound with every rule relaxed (_crawling_under_bound)
     accepted_share: float = 1.0  # of the collapses the last pass's validation tried, the share it accepted
+    face_quality: object = None  # (m,) triangle_quality of each face of F, kept up to date once asked for (_face_quality)
     screening: bool = False  # the passes screen their candidates first (_screened), from the first that needed it on
     passed_screen: object = None  # (k,) per edge: pass in which it last passed the screening, 0 never
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
@@ -653,11 +654,21 @@ def _sliver_floor_off(s: State):
     allowance, or after a pass that took nothing."""
     allowance = s.slivers.allowance
     if np.ndim(allowance) == 0:
-        return allowance > 0 and (s.slivers.stalled or slivers.within_allowance(s.V, s.F, allowance))
+        return allowance > 0 and (s.slivers.stalled or slivers.within_allowance(_face_quality(s), allowance))
     if not allowance.any():
         return False
-    within = slivers.parts_within_allowance(s.V, s.F, s.part[s.F[:, 0]], allowance)
+    within = slivers.parts_within_allowance(_face_quality(s), s.part[s.F[:, 0]], allowance)
     return (allowance > 0) & (s.slivers.stalled | within)
+
+
+def _face_quality(s: State) -> np.ndarray:
+    """(m,) the quality of every face of s.F. Computed once, then kept up to date by
+    _apply for the faces around the moved vertices only: a sliver-rich run counts its
+    slivers every pass, and measuring all its faces each time was 0.07 s of the CAD
+    engine's 0.9 s run (55 passes)."""
+    if s.face_quality is None:
+        s.face_quality = triangle_quality(s.V, s.F)
+    return s.face_quality
 
 
 def _input_slivers_first(s: State, conn, cand):
@@ -889,6 +900,10 @@ def _apply(s: State, conn, cand, chosen, pass_no):
         corner_data.keep_faces(alive)
     around = topology.faces_touching(s.F, keep, len(s.V))
     s.touched[np.compress(around, s.F, axis=0).ravel()] = pass_no
+    if s.face_quality is not None:
+        # (Only the faces around a kept vertex moved; the others' quality is as it was.)
+        s.face_quality = s.face_quality.compress(alive)
+        s.face_quality[around] = triangle_quality(s.V, np.compress(around, s.F, axis=0))
 
 
 def _corner_data(s: State) -> list:
@@ -902,6 +917,8 @@ def _drop_faces(s: State, alive):
     np.subtract.at(s.face_count, np.compress(~alive, s.F, axis=0).ravel(), 1)
     s.F = np.compress(alive, s.F, axis=0)
     s.face_origin = s.face_origin.compress(alive)
+    if s.face_quality is not None:
+        s.face_quality = s.face_quality.compress(alive)
     for corner_data in _corner_data(s):
         corner_data.keep_faces(alive)
     s.conn = topology.build(s.F, len(s.V))

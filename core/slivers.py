@@ -61,21 +61,23 @@ def part_allowances(input_quality, face_part, parts: int) -> np.ndarray:
     return np.where(share >= SLIVER_RICH_SHARE, share, 0.0)
 
 
-def parts_within_allowance(V, F, face_part, allowance: np.ndarray) -> np.ndarray:
-    """(parts,) within_allowance of each part: fewer slivers among its faces (face_part
-    (m,) the part of each face of F) than its ``allowance`` (parts,) share."""
+def parts_within_allowance(quality, face_part, allowance: np.ndarray) -> np.ndarray:
+    """(parts,) within_allowance of each part: fewer slivers among its faces (quality
+    (m,) their triangle_quality, face_part (m,) the part of each) than its ``allowance``
+    (parts,) share."""
     parts = len(allowance)
     faces = np.bincount(face_part, minlength=parts)
-    thin = np.bincount(face_part, weights=triangle_quality(V, F) < SLIVER_QUALITY, minlength=parts)
+    thin = np.bincount(face_part, weights=quality < SLIVER_QUALITY, minlength=parts)
     return (allowance > 0) & (thin < allowance * faces)
 
 
-def within_allowance(V, F, allowance: float) -> bool:
-    """Whether the mesh has fewer slivers than ``allowance`` (a share): then this pass's
-    collapses may make slivers (the floor is off)."""
-    if allowance <= 0 or len(F) == 0:
+def within_allowance(quality, allowance: float) -> bool:
+    """Whether the mesh whose faces have triangle_quality ``quality`` (m,) has fewer
+    slivers than ``allowance`` (a share): then this pass's collapses may make slivers
+    (the floor is off)."""
+    if allowance <= 0 or len(quality) == 0:
         return False
-    return float(np.count_nonzero(triangle_quality(V, F) < SLIVER_QUALITY)) < allowance * len(F)
+    return float(np.count_nonzero(quality < SLIVER_QUALITY)) < allowance * len(quality)
 
 
 def worst_input_quality(F, n, quality) -> np.ndarray:

@@ -57,3 +57,33 @@ def test_border_floors_relax_only_bordered_faces_with_an_input_sliver():
     nb_next, nb_prev, collapse = np.array([2, 2, 1]), np.array([3, 4, 2]), np.array([0, 0, 1])
     floors = slivers.border_floors(0.3, worst, border, keep, remove, nb_next, nb_prev, collapse)
     assert np.allclose(floors, [0.05, 0.3, 0.3])
+
+
+def test_the_face_qualities_a_run_keeps_are_those_of_its_faces(monkeypatch):
+    """The engine keeps each face's quality up to date pass by pass (engine._face_quality,
+    for the sliver allowance) instead of measuring every face again: at every pass the
+    kept values are those of the faces as they are, in a run of one mesh and of several
+    parts, parts dropped whole included."""
+    from core import engine
+    from core.metrics import triangle_quality
+
+    checked = []
+    original = engine._face_quality
+
+    def compared(s):
+        kept = original(s)
+        assert np.array_equal(kept, triangle_quality(s.V, s.F))
+        checked.append(len(s.F))
+        return kept
+
+    monkeypatch.setattr(engine, "_face_quality", compared)
+    V, F = build.thin_patches(40, seed=3)
+    core.simplify(V, F, ratio=0.1)
+    single = len(checked)
+    assert single > 3
+    parts = [build.thin_patches(12, seed=seed) for seed in range(3)] + [build.bolts(30)]
+    V, F = build.components(parts)
+    part = np.concatenate([np.full(len(v), i) for i, (v, _) in enumerate(parts)])
+    r = core.simplify(V, F, ratio=0.05, vertex_part=part)
+    assert r.stats.removed_components > 0
+    assert len(checked) > single + 3
