@@ -87,3 +87,21 @@ def test_corners_of_each_listing_of_a_vertex():
     want = {(o, c) for o, v in enumerate([2, 0, 2, 4]) for c in np.flatnonzero(flat == v)}
     assert got == want and len(owner) == len(want)
     assert np.all(np.diff(owner) >= 0)
+
+
+def test_a_run_under_a_distance_bound_is_not_screened(monkeypatch):
+    """Under max_error the tail's rejections are mostly the bound's, which screening
+    cannot catch: the run stays as it was (the same LOD as unscreened)."""
+    calls = []
+    original = engine._screened
+    monkeypatch.setattr(engine, "_screened", lambda *a: calls.append(1) or original(*a))
+    V, F = _disks()
+    core.simplify(V, F, ratio=0.25)
+    assert calls  # (this mesh does screen at a count target)
+    calls.clear()
+    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
+    bounded = core.simplify(V, F, max_error=0.02 * diagonal)
+    assert calls == []
+    _unscreened(monkeypatch)
+    plain = core.simplify(V, F, max_error=0.02 * diagonal)
+    assert np.array_equal(bounded.faces, plain.faces) and np.array_equal(bounded.vertices, plain.vertices)
