@@ -201,7 +201,7 @@ class State:
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     bound_crawl: int = 0  # the same under a distance bound with every rule relaxed (_crawling_under_bound)
     accepted_share: float = 1.0  # of the collapses the last pass's validation tried, the share it accepted
-    face_quality: object = None  # (m,) triangle_quality of each face of F, kept up to date once asked for (_face_quality)
+    face_quality: object = None  # (m,) each face's triangle_quality, kept up to date once asked (_face_quality)
     screening: bool = False  # the passes screen their candidates first (_screened), from the first that needed it on
     passed_screen: object = None  # (k,) per edge: pass in which it last passed the screening, 0 never
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
@@ -634,8 +634,9 @@ def _screened(s: State, conn, cand, pass_no):
     the share of the candidates a pass may take (_choose), so that the pass takes the
     collapses it would have taken had it tried them in turn. (Tried first: the share
     taken of what the screening left, which ran far up the costs in a CAD part's tail,
-    body_3 at 10 % 2.6x the Hausdorff distance.) One that passed is screened again only once its neighbourhood
-    changed."""
+    body_3 at 10 % 2.6x the Hausdorff distance.) One that passed is screened again only
+    once its neighbourhood changed. Runs under a distance bound are not screened
+    (SCREEN_BELOW), so nothing here is the bound's rejection."""
     if s.passed_screen is None:
         s.passed_screen = np.zeros(len(conn.edges), dtype=np.int64)
     limit = _cost_quantiles(cand.cost, (SCREEN_SHARE,))[0]
@@ -647,8 +648,6 @@ def _screened(s: State, conn, cand, pass_no):
     failed = np.zeros(len(cand.edge), dtype=bool)
     failed[tried[~ok]] = True
     s.rejected_pass[cand.edge[failed]] = pass_no
-    if s.bound is not None:
-        s.bound.far_rejected[cand.edge[failed]] = 0
     return failed
 
 

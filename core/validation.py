@@ -41,14 +41,14 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
         return np.zeros(0, dtype=bool)
     n = len(s.V)
     keep, remove, pos = cand.keep[chosen], cand.remove[chosen], cand.position[chosen]
-    ring = _rings(s, cand, chosen, *topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window))
-    collapse, from_keep, faces, moving, nb_next, nb_prev, other_end, dying = ring
+    fans = _rings(s, cand, chosen, *topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window))
+    collapse, from_keep, faces, moving, nb_next, nb_prev, other_end, dying = fans
     edge = cand.edge[chosen]
     ok = _link_condition(conn, edge, nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep, collapse, c, n)
     opposite0, opposite1 = opposite
     ok &= _no_vertex_left_bare(s.face_count, faces_taken, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
-    ok &= _corners_kept(s, conn, keep, remove, pos, ring, c)
+    ok &= _corners_kept(s, conn, keep, remove, pos, fans, c)
     guards = s.guards
     if s.wedges is not None:
         ok &= s.wedges.valid_uv(s.F, conn, edge, keep, remove, pos, s.V, faces, collapse, dying, c,
@@ -84,11 +84,11 @@ def screened(s, conn, cand, idx) -> np.ndarray:
         return np.zeros(0, dtype=bool)
     n = len(s.V)
     keep, remove = cand.keep[idx], cand.remove[idx]
-    ring = _rings(s, cand, idx, *topology.gather_corners_of_each(s.F, np.concatenate([keep, remove]), n))
-    collapse, from_keep, _, moving, nb_next, nb_prev, other_end, _ = ring
+    fans = _rings(s, cand, idx, *topology.gather_corners_of_each(s.F, np.concatenate([keep, remove]), n))
+    collapse, from_keep, _, moving, nb_next, nb_prev, other_end, _ = fans
     ok = _link_condition(conn, cand.edge[idx], nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep,
                          collapse, c, n)
-    return ok & _corners_kept(s, conn, keep, remove, cand.position[idx], ring, c)
+    return ok & _corners_kept(s, conn, keep, remove, cand.position[idx], fans, c)
 
 
 def _rings(s, cand, chosen, owner, corners) -> tuple:
@@ -117,10 +117,10 @@ def _open_fan(s, conn, moving) -> np.ndarray:
     return conn.border_vertex[moving] | s.locked[moving] | s.complex[moving]
 
 
-def _corners_kept(s, conn, keep, remove, pos, ring, c) -> np.ndarray:
+def _corners_kept(s, conn, keep, remove, pos, fans, c) -> np.ndarray:
     """(c,) bool: collapses none of whose faces turns over, vanishes or becomes a sliver
-    (corner_breaks, at the floors in force)."""
-    collapse, _, faces, moving, nb_next, nb_prev, _, dying = ring
+    (corner_breaks, at the floors in force); fans: _rings of them."""
+    collapse, _, faces, moving, nb_next, nb_prev, _, dying = fans
     source = rows(s.source_normals, s.face_origin[faces])
     guards = s.guards
     floor_off = s.slivers.floor_off  # core.slivers.sliver_allowance; per part in a run of several
