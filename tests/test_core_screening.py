@@ -34,6 +34,14 @@ def _unscreened(monkeypatch):
     monkeypatch.setattr(engine, "SCREEN_BELOW", -1.0)
 
 
+def _screenings(monkeypatch) -> list:
+    """A list that gets an entry each time a pass screens its candidates."""
+    calls = []
+    original = engine._screened
+    monkeypatch.setattr(engine, "_screened", lambda *a: calls.append(1) or original(*a))
+    return calls
+
+
 def test_a_part_whose_tail_rejects_nearly_everything_takes_fewer_passes(monkeypatch):
     V, F = _disks()
     screened = core.simplify(V, F, ratio=0.25)
@@ -45,9 +53,7 @@ def test_a_part_whose_tail_rejects_nearly_everything_takes_fewer_passes(monkeypa
 
 
 def test_a_mesh_whose_passes_accept_most_of_what_they_try_is_not_screened(monkeypatch):
-    calls = []
-    original = engine._screened
-    monkeypatch.setattr(engine, "_screened", lambda *a: calls.append(1) or original(*a))
+    calls = _screenings(monkeypatch)
     V, F = build.grid(24, jitter=0.2)
     V[:, 2] = 0.1 * np.sin(4.0 * V[:, 0]) * np.cos(3.0 * V[:, 1])
     core.simplify(V, F, ratio=0.1)
@@ -92,9 +98,7 @@ def test_corners_of_each_listing_of_a_vertex():
 def test_a_run_under_a_distance_bound_is_not_screened(monkeypatch):
     """Under max_error the tail's rejections are mostly the bound's, which screening
     cannot catch: the run stays as it was (the same LOD as unscreened)."""
-    calls = []
-    original = engine._screened
-    monkeypatch.setattr(engine, "_screened", lambda *a: calls.append(1) or original(*a))
+    calls = _screenings(monkeypatch)
     V, F = _disks()
     core.simplify(V, F, ratio=0.25)
     assert calls  # (this mesh does screen at a count target)
