@@ -7,7 +7,8 @@ two far-apart vertices merged), adds noise, and draws a ratio, seed, line weight
 locked vertices, quadric scales, per-vertex line weights, boundary weight, max_error and UVs with
 a seam. The result must then:
 - be a valid mesh: indices in range, no repeated vertex in a face, no duplicate faces,
-  every output vertex used; origins in range and one-to-one;
+  every output vertex used; origins in range and one-to-one (but the faces core.stitching
+  split at a T-junction, which share their input face);
 - stay manifold and consistently oriented if the input was, and never add a
   non-manifold edge if it was not;
 - hit the target (within 1) unless the stats say why not;
@@ -35,6 +36,7 @@ import _bootstrap  # noqa: F401  (repository on sys.path, Blender user dirs isol
 import numpy as np
 
 import core
+from core import stitching
 from core.guards import relaxation_ladder
 from blender_reference import load_mesh
 
@@ -115,6 +117,32 @@ def draw_case(rng, meshes, damage, with_uv):
     return name, V, F, options
 
 
+def on_t_junctions(V, F, faces) -> bool:
+    """Whether each of the input ``faces`` (ids) has a border edge with an input vertex on
+    it, strictly between its ends and within core.stitching's tolerance: a T-junction
+    crack, which core.stitching closes by splitting the face, so that several output faces
+    descend from it."""
+    edges, count = edge_counts(F)
+    border = {tuple(e) for e in edges[count == 1].tolist()}
+    diagonal = float(np.linalg.norm(np.ptp(V, axis=0)))
+    for f in faces:
+        cracked = False
+        for a, b in ((F[f, 0], F[f, 1]), (F[f, 1], F[f, 2]), (F[f, 2], F[f, 0])):
+            if (min(a, b), max(a, b)) not in border:
+                continue
+            d = V[b] - V[a]
+            length = float(np.linalg.norm(d))
+            if length == 0:
+                continue
+            t = (V - V[a]) @ d / length ** 2
+            distance = np.linalg.norm(V[a] + t[:, None] * d - V, axis=1)
+            tolerance = min(stitching.RELATIVE_TOLERANCE * length, stitching.ABSOLUTE_TOLERANCE * diagonal)
+            cracked |= bool(np.any((t > stitching.END_MARGIN) & (t < 1 - stitching.END_MARGIN) & (distance <= tolerance)))
+        if not cracked:
+            return False
+    return True
+
+
 def broken_promises(V, F, options, r) -> list:
     """What the result ``r`` of simplify(V, F, **options) gets wrong; empty if nothing."""
     out, faces = r.vertices, r.faces
@@ -128,8 +156,11 @@ def broken_promises(V, F, options, r) -> list:
         problems.append("a face repeats a vertex")
     if len(np.unique(np.sort(faces, axis=1), axis=0)) != len(faces):
         problems.append("duplicate faces")
-    if len(np.unique(fo)) != len(fo) or len(np.unique(vo)) != len(vo) or fo.max() >= len(F) or vo.max() >= len(V):
-        problems.append("origins not one-to-one or out of range")
+    if len(np.unique(vo)) != len(vo) or fo.max() >= len(F) or vo.max() >= len(V):
+        problems.append("vertex origins not one-to-one, or origins out of range")
+    origins, count = np.unique(fo, return_counts=True)
+    if np.any(count > 1) and not on_t_junctions(V, F, origins[count > 1]):
+        problems.append("two output faces descend from one input face that no T-junction split")
     if consistently_manifold(F):
         if not consistently_manifold(faces):
             problems.append("manifold input, non-manifold or inconsistently oriented output")
