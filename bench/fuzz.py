@@ -121,8 +121,11 @@ def on_t_junctions(V, F, faces) -> bool:
     """Whether each of the input ``faces`` (ids) has a border edge with an input vertex on
     it, strictly between its ends and within core.stitching's tolerance: a T-junction
     crack, which core.stitching closes by splitting the face, so that several output faces
-    descend from it."""
-    edges, count = edge_counts(F)
+    descend from it. Border edges are judged as core.prepare leaves the faces: without
+    degenerate, zero-area or repeated ones."""
+    kept = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2]) & (double_areas(V, F) > 0)
+    _, first = np.unique(np.sort(F[kept], axis=1), axis=0, return_index=True)
+    edges, count = edge_counts(F[kept][first])
     border = {tuple(e) for e in edges[count == 1].tolist()}
     diagonal = float(np.linalg.norm(np.ptp(V, axis=0)))
     for f in faces:

@@ -38,3 +38,16 @@ def test_two_faces_from_one_input_face_elsewhere_are_a_broken_promise(fuzz):
     origin[1] = origin[0]
     problems = fuzz.broken_promises(V, F, {"ratio": 0.5}, dataclasses.replace(r, face_origin=origin))
     assert any("descend from one input face" in p for p in problems)
+
+
+def test_a_crack_is_seen_past_a_face_the_input_has_twice(fuzz):
+    """Damaged input repeats faces; core.prepare drops the copies before the stitching
+    sees the crack's border, and so does the checker."""
+    V, F = build.t_junction_slit()
+    origin, count = np.unique(core.simplify(V, F, ratio=0.95).face_origin, return_counts=True)
+    face = origin[count > 1][0]  # a face split at the slit, whose slit edge is a border edge
+    doubled = np.concatenate([F, F[[face]]])  # (that slit edge is on two raw faces)
+    r = core.simplify(V, doubled, ratio=0.95)
+    origin, count = np.unique(r.face_origin, return_counts=True)
+    assert face in origin[count > 1]  # (that face was split)
+    assert fuzz.broken_promises(V, doubled, {"ratio": 0.95}, r) == []
