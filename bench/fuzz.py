@@ -140,7 +140,8 @@ def on_t_junctions(V, F, faces) -> bool:
             t = (V - V[a]) @ d / length ** 2
             distance = np.linalg.norm(V[a] + t[:, None] * d - V, axis=1)
             tolerance = min(stitching.RELATIVE_TOLERANCE * length, stitching.ABSOLUTE_TOLERANCE * diagonal)
-            cracked |= bool(np.any((t > stitching.END_MARGIN) & (t < 1 - stitching.END_MARGIN) & (distance <= tolerance)))
+            inside = (t > stitching.END_MARGIN) & (t < 1 - stitching.END_MARGIN)
+            cracked |= bool(np.any(inside & (distance <= tolerance)))
         if not cracked:
             return False
     return True
