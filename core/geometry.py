@@ -122,6 +122,25 @@ def distinct_points(points: np.ndarray) -> tuple:
     return first, inverse.reshape(-1)
 
 
+def position_ids(*point_sets) -> list:
+    """One id per position over several point sets, each (k_i, 3): [(k_i,) int64], equal
+    exactly where two points are at the very same position (bit for bit), whichever sets
+    they are in. The ids follow one sorted order of the positions, so np.unique of one
+    set's ids gives its distinct positions in distinct_points' order. One sort serves
+    every comparison between the sets (measuring a LOD against its source compared them
+    eight times, a sort each)."""
+    sizes = [len(p) for p in point_sets]
+    points = np.concatenate([np.asarray(p, dtype=np.float64).reshape(-1, 3) for p in point_sets])
+    _, inverse = np.unique(_row_keys(points), return_inverse=True)
+    return np.split(inverse.reshape(-1).astype(np.int64), np.cumsum(sizes)[:-1])
+
+
+def index_of(keys_a: np.ndarray, keys_b: np.ndarray) -> np.ndarray:
+    """(ka,) the index in keys_b (1-D, sortable) of each of keys_a, the first where
+    several are equal, or -1."""
+    return _find(keys_a, keys_b)
+
+
 def same_triangles(va, fa, vb, fb) -> tuple:
     """Which triangles of mesh a are triangles of mesh b, corner for corner: ((ma,) the
     index of a triangle of b on vertices at the very same positions (bit for bit), either
@@ -129,25 +148,33 @@ def same_triangles(va, fa, vb, fb) -> tuple:
 
     A LOD keeps its source's unmoved vertices exactly (core.simplify returns them as
     given), so where no collapse reached, its triangles are the source's: the distance
-    between the two surfaces there is zero, with no search (addon/pure/measure.py). Where
-    b has several vertices at one position, a triangle on another copy than the one
-    found is not matched (it is then searched for like any other)."""
+    between the two surfaces there is zero, with no search (addon/pure/measure.py)."""
+    ids_a, ids_b = position_ids(va, vb)
+    return triangles_at_same_positions(ids_a, fa, ids_b, fb)
+
+
+def triangles_at_same_positions(ids_a, fa, ids_b, fb) -> tuple:
+    """same_triangles from the vertices' position_ids (``ids_a``, ``ids_b``): whichever
+    copies of a position (a UV seam's, a hard edge's) the two triangles use."""
     fa, fb = np.asarray(fa, dtype=np.int64), np.asarray(fb, dtype=np.int64)
     match = np.full(len(fa), -1, dtype=np.int64)
     corner = np.zeros((len(fa), 3), dtype=np.int64)
     if len(fa) == 0 or len(fb) == 0:
         return match, corner
-    used = np.unique(fa)
-    at = np.full(int(used.max()) + 1, -1, dtype=np.int64)
-    at[used] = same_points(np.asarray(va, dtype=np.float64)[used], vb)
-    mapped = at[fa]
-    candidates = np.flatnonzero((mapped >= 0).all(axis=1))
-    if len(candidates) == 0:
-        return match, corner
-    # A triangle is its three vertex ids in order, whatever its rotation and winding.
-    found = _find(_row_keys(np.sort(mapped[candidates], axis=1)), _row_keys(np.sort(fb, axis=1)))
-    hit = candidates[found >= 0]
-    match[hit] = found[found >= 0]
-    # Which corner of b's triangle holds each of a's corners' vertex.
-    corner[hit] = np.argmax(fb[match[hit]][:, None, :] == mapped[hit][:, :, None], axis=2)
+    at_a, at_b = ids_a[fa], ids_b[fb]
+    # A triangle is its three positions in order, whatever its rotation and winding.
+    top = int(max(at_a.max(), at_b.max())) + 1
+    found = _find(_triple_keys(np.sort(at_a, axis=1), top), _triple_keys(np.sort(at_b, axis=1), top))
+    hit = np.flatnonzero(found >= 0)
+    match[hit] = found[hit]
+    # Which corner of b's triangle holds each of a's corners' position.
+    corner[hit] = np.argmax(at_b[found[hit]][:, None, :] == at_a[hit][:, :, None], axis=2)
     return match, corner
+
+
+def _triple_keys(rows_: np.ndarray, top: int) -> np.ndarray:
+    """(k,) one sortable key per row of a (k, 3) array of ids in 0 .. top - 1: an int64
+    (21 bits an id) while they fit, else the rows' bytes."""
+    if top <= 1 << 21:
+        return (rows_[:, 0] << 42) | (rows_[:, 1] << 21) | rows_[:, 2]
+    return _row_keys(rows_)

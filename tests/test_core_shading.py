@@ -181,3 +181,30 @@ def test_same_triangles_finds_each_shared_triangle_whatever_its_rotation_and_win
     np.testing.assert_array_equal(va[fa[hit]], np.take_along_axis(vb_moved[fb[match[hit]]], corner[hit][:, :, None], axis=1))
     points = same_points(va, vb_moved)
     np.testing.assert_array_equal(points, relabel)  # every a vertex is one of b's, moved copies aside
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 4))
+def test_same_triangles_match_whichever_copies_of_a_position_the_triangles_use(seed, copies):
+    """Meshes split along UV seams and hard edges have several vertices at one position.
+    A triangle of a is found in b when b has a triangle at the same three positions, on
+    any copies (a brute-force comparison of position sets), and the corner map is right."""
+    from core.geometry import position_ids, same_triangles
+
+    rng = np.random.default_rng(seed)
+    points = rng.integers(0, 4, (12, 3)).astype(np.float64)  # few distinct positions: many repeats
+    va = points[rng.integers(0, 12, 12 * copies)]
+    vb = points[rng.integers(0, 12, 12 * copies)]
+    fa = np.array([rng.choice(len(va), 3, replace=False) for _ in range(30)])
+    fb = np.array([rng.choice(len(vb), 3, replace=False) for _ in range(30)])
+    match, corner = same_triangles(va, fa, vb, fb)
+    key = lambda v, f: tuple(sorted(map(tuple, v[f])))
+    keys_b = [key(vb, t) for t in fb]
+    for i, t in enumerate(fa):
+        expected = keys_b.index(key(va, t)) if key(va, t) in keys_b else -1
+        assert match[i] == expected
+        if expected >= 0:
+            np.testing.assert_array_equal(va[t], vb[fb[expected]][corner[i]])
+    ids_a, ids_b = position_ids(va, vb)
+    same = (va[:, None, :] == vb[None, :, :]).all(axis=2)
+    np.testing.assert_array_equal(ids_a[:, None] == ids_b[None, :], same)

@@ -128,6 +128,29 @@ def brute_trees(monkeypatch):
     monkeypatch.setattr(measure, "_tree_cache", [])
 
 
+def test_triangles_on_other_copies_of_their_vertices_are_known_without_a_query(monkeypatch):
+    # A mesh split along seams has several vertices at one position; its LOD may draw an
+    # untouched triangle on other copies than the ones a lookup by position finds first.
+    # Here the LOD is the source drawn entirely on second copies of its vertices: every
+    # point is on a triangle both have, at distance 0, and nothing is searched.
+    queries = []
+
+    class Counting(_BruteTree):
+        def find_nearest(self, co, distance=float("inf")):
+            queries.append(co)
+            return super().find_nearest(co, distance)
+
+    monkeypatch.setattr(measure, "_tree_builder", Counting)
+    monkeypatch.setattr(measure, "_tree_cache", [])
+    v, f = grid(4, jitter=0.2)
+    copies = np.concatenate([v, v])
+    report = measure.surface_deviation(v, f, copies, f + len(v), n_samples=(300, 200), keep_samples=True)
+    assert report["hausdorff"] == 0.0 and report["mean"] == 0.0
+    assert queries == []
+    sampled = report["sampled"]
+    np.testing.assert_array_equal(sampled.src_nearest, sampled.src_triangle)  # the same triangle, not a neighbour
+
+
 def test_part_deviations_of_one_part_are_surface_deviations_numbers(brute_trees):
     v, f = grid(4, jitter=0.2)
     lod_v = v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])]

@@ -60,7 +60,7 @@ import time
 import weakref
 import zlib
 from dataclasses import dataclass
-from typing import Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -301,6 +301,15 @@ def _distances(tree, points: np.ndarray, with_faces: bool = False, radius: Optio
         return _queried(tree, points, with_faces, radius)
 
 
+def _upper_quantile(values: np.ndarray) -> float:
+    """The _PILOT_QUANTILE quantile of ``values`` (non-empty), rounded up to one of them:
+    a search radius, which only decides how many queries are asked again (a point beyond
+    it is searched without one), not what they find. np.quantile's interpolation cost
+    more than the partition (20 ms of the engine's level reports)."""
+    k = int(np.ceil(_PILOT_QUANTILE * (len(values) - 1)))
+    return float(np.partition(values, k)[k])
+
+
 def _queried(tree, points: np.ndarray, with_faces: bool, radius: Optional[float] = None) -> tuple:
     """_distances of a non-empty ``points``, the collector paused."""
     # Lists as tolist gives them: mathutils reads a list as fast as a tuple, and making
@@ -312,9 +321,9 @@ def _queried(tree, points: np.ndarray, with_faces: bool, radius: Optional[float]
         pilot_idx = np.linspace(0, len(pts) - 1, pilot_count).astype(np.int64)
         pilot = np.fromiter(map(_DISTANCE, map(find, map(pts.__getitem__, pilot_idx.tolist()))),
                             dtype=np.float64, count=pilot_count)
-        radius = float(np.quantile(pilot, _PILOT_QUANTILE)) * _RADIUS_FACTOR
+        radius = _upper_quantile(pilot) * _RADIUS_FACTOR
     # A floor keeps the radius positive when the surfaces coincide (all pilot distances 0).
-    extent = float(np.ptp(points, axis=0).max()) if len(points) > 1 else 1.0
+    extent = float(points.max() - points.min()) if len(points) > 1 else 1.0
     radius = max(radius, extent * 1e-6, 1e-12)
     # None (nothing within the radius) becomes NaN here and is re-queried unbounded.
     # map, itemgetter and fromiter keep the loop over the points in C: no bytecode and no
@@ -387,9 +396,9 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
     normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
     and faces, or None when the closest points are not wanted, and a dict): the dict gets
-    the per-point results (Sampled's fields without their src_/dst_ prefix). ``b``: b's
-    (vertices, faces): points on a triangle b has too (core.geometry.same_triangles), and
-    vertices b has too, are at distance 0 on it without a search (a LOD keeps its source's
+    the per-point results (Sampled's fields without their src_/dst_ prefix). ``b``: a
+    _Coincident of a and b: points on a triangle b has too, and vertices at a position b's
+    triangles use, are at distance 0 on it without a search (a LOD keeps its source's
     untouched triangles exactly: a third of the engine's large parts' at LOD1).
     ``vertex_limit``: query at most that many of a's vertices (_queried_vertices)."""
     samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
@@ -397,7 +406,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     verts = v_a[used]
     wanted = shading is not None or (keep is not None and keep[0] is not None)
     d_samples, nearest, at = _distances_known(
-        tree_b, samples, wanted, *(_on_same_triangles(tri, bary, v_a, f_a, *b) if b is not None else (None, None, None)))
+        tree_b, samples, wanted, *(_on_same_triangles(tri, bary, f_a, b) if b is not None else (None, None, None)))
     angles = None
     if wanted:
         v_b, f_b = (shading[1], shading[2]) if shading is not None else keep[0]
@@ -411,7 +420,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     if keep is not None:
         keep[1].update(triangle=tri, bary=bary, distance=d_samples)
     wanted = keep is not None and keep[0] is not None
-    d_verts, vertex_nearest, vertex_at = _vertex_distances(tree_b, verts, wanted, b, d_samples)
+    d_verts, vertex_nearest, vertex_at = _vertex_distances(tree_b, verts, used, wanted, b, d_samples)
     if wanted:
         keep[1].update(vertex_nearest=vertex_nearest,
                        vertex_nearest_bary=_Deferred(_closest_bary, verts, vertex_nearest, *keep[0], vertex_at))
@@ -475,49 +484,78 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
     return np.concatenate(found), np.tile(trial_tri, CLIMB_ROUNDS), np.concatenate(tried)
 
 
-def _vertex_distances(tree_b, verts, with_faces, b, d_samples) -> tuple:
-    """_distances_known for a's vertices ``verts`` (k, 3): each position queried once. A
-    mesh split along its UV seams and hard edges has several vertices at one position
-    (an imported CAD engine: 55,843 vertices at 36,206 positions), and each query is a
-    Python call; the answer for a position is the same for all its copies. The search
-    radius comes from the area samples' distances ``d_samples`` where there are enough
-    of them (VERTEX_RADIUS_SAMPLES), as a pilot would measure it: no pilot."""
+def _vertex_distances(tree_b, verts, used, with_faces, b, d_samples) -> tuple:
+    """_distances_known for a's vertices ``verts`` (k, 3), a's vertices ``used``: each
+    position queried once. A mesh split along its UV seams and hard edges has several
+    vertices at one position (an imported CAD engine: 55,843 vertices at 36,206
+    positions), and each query is a Python call; the answer for a position is the same
+    for all its copies. The search radius comes from the area samples' distances
+    ``d_samples`` where there are enough of them (VERTEX_RADIUS_SAMPLES), as a pilot
+    would measure it: no pilot. ``b``: a's _Coincident with b, or None."""
     from ._core import core
 
-    first, inverse = core.geometry.distinct_points(verts)
+    if b is None:
+        first, inverse = core.geometry.distinct_points(verts)
+    else:  # (the same positions in the same order, from the ids already sorted)
+        _, first, inverse = np.unique(b.ids_a[used], return_index=True, return_inverse=True)
+        inverse = inverse.reshape(-1)
     distinct = verts[first]
     radius = None
     if len(d_samples) >= VERTEX_RADIUS_SAMPLES and d_samples.max() > 0:
-        radius = float(np.quantile(d_samples, _PILOT_QUANTILE)) * _RADIUS_FACTOR
+        radius = _upper_quantile(d_samples) * _RADIUS_FACTOR
     found = _distances_known(tree_b, distinct, with_faces,
-                             *(_on_same_vertices(distinct, *b) if b is not None else (None, None, None)),
+                             *(_on_same_vertices(b.ids_a[used[first]], b) if b is not None else (None, None, None)),
                              radius=radius)
     return tuple(None if x is None else x[inverse] for x in found)
 
 
-def _on_same_triangles(tri, bary, v_a, f_a, v_b, f_b) -> tuple:
+class _Coincident(NamedTuple):
+    """Where surface a meets surface b exactly: b's faces (m_b, 3) and both surfaces'
+    vertex ids by position (core.geometry.position_ids, one sort for both directions)."""
+    faces_b: np.ndarray
+    ids_a: np.ndarray
+    ids_b: np.ndarray
+
+
+def _coincident(v_a, v_b, f_b) -> "_Coincident":
+    """a's _Coincident with b (vertices ``v_a``; b's vertices ``v_b`` and faces ``f_b``);
+    _coincident_back turns it round without sorting again."""
+    from ._core import core
+
+    ids_a, ids_b = core.geometry.position_ids(v_a, v_b)
+    return _Coincident(f_b, ids_a, ids_b)
+
+
+def _coincident_back(c: "_Coincident", f_a) -> "_Coincident":
+    """The _Coincident of b with a, from a's with b and a's faces."""
+    return _Coincident(f_a, c.ids_b, c.ids_a)
+
+
+def _on_same_triangles(tri, bary, f_a, b: _Coincident) -> tuple:
     """For points at ``bary`` on a's triangles ``tri``: (k,) bool those on a triangle b has
     too, that triangle of b, and the points' barycentric coordinates on it."""
     from ._core import core
 
-    match, corner = core.geometry.same_triangles(v_a, f_a, v_b, f_b)
+    match, corner = core.geometry.triangles_at_same_positions(b.ids_a, f_a, b.ids_b, b.faces_b)
     on = match[tri] >= 0
     at = np.zeros((int(on.sum()), 3))
     np.put_along_axis(at, corner[tri[on]], bary[on], axis=1)
     return on, match[tri[on]], at
 
 
-def _on_same_vertices(points, v_b, f_b) -> tuple:
-    """For ``points`` (a's vertices): (k,) bool those at a vertex b's triangles use, one
-    triangle of b with that corner, and the one-hot barycentric coordinates there."""
+def _on_same_vertices(point_ids, b: _Coincident) -> tuple:
+    """For points of a with position ids ``point_ids``: (k,) bool those at a vertex b's
+    triangles use, one triangle of b with that corner, and the one-hot barycentric
+    coordinates there."""
     from ._core import core
 
+    f_b = b.faces_b
     corner_face = np.repeat(np.arange(len(f_b)), 3)
-    face_of, slot_of = np.full(len(v_b), -1, dtype=np.int64), np.zeros(len(v_b), dtype=np.int64)
+    face_of, slot_of = np.full(len(b.ids_b), -1, dtype=np.int64), np.zeros(len(b.ids_b), dtype=np.int64)
     face_of[f_b.ravel()] = corner_face
     slot_of[f_b.ravel()] = np.tile(np.arange(3), len(f_b))
     used = np.flatnonzero(face_of >= 0)
-    match = core.geometry.same_points(points, v_b[used])
+    match = core.geometry.index_of(point_ids, b.ids_b[used])
     on = match >= 0
     vertex = used[match[on]]
     at = np.zeros((int(on.sum()), 3))
@@ -628,12 +666,14 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
         shading = (_corner_normals(normals[0], fs, "src"), vd, fd, _corner_normals(normals[1], fd, "dst"))
 
     kept = ({}, {}) if keep_samples else None
+    src_on_dst = _coincident(vs, vd, fd)
     h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
-                                               shading, kept and ((vd, fd), kept[0]), b=(vd, fd),
+                                               shading, kept and ((vd, fd), kept[0]), b=src_on_dst,
                                                vertex_limit=vertex_limit)
     t1 = time.perf_counter()
     h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
-                                          keep=kept and ((vs, fs), kept[1]), b=(vs, fs), vertex_limit=vertex_limit)
+                                          keep=kept and ((vs, fs), kept[1]), b=_coincident_back(src_on_dst, fs),
+                                          vertex_limit=vertex_limit)
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)
@@ -683,13 +723,14 @@ def part_deviations(src_vertices, src_faces, src_part, dst_vertices, dst_faces, 
     vd, fd = _as_mesh(dst_vertices, dst_faces, "dst")
     n_src, n_dst = n_samples if isinstance(n_samples, (tuple, list)) else (n_samples, n_samples)
     sides = []
-    for (v_a, f_a, part_a, n_a), (v_b, f_b) in (((vs, fs, src_part, n_src), (vd, fd)),
-                                                ((vd, fd, dst_part, n_dst), (vs, fs))):
+    src_on_dst = _coincident(vs, vd, fd) if find_shared else None
+    for (v_a, f_a, part_a, n_a), (v_b, f_b), b in (
+            ((vs, fs, src_part, n_src), (vd, fd), src_on_dst),
+            ((vd, fd, dst_part, n_dst), (vs, fs), src_on_dst and _coincident_back(src_on_dst, fs))):
         part_a = np.asarray(part_a, dtype=np.int64)
         kept = {}
         _one_direction(v_a, f_a, _surface_rng(seed, v_a, f_a), _sample_count(v_a, f_a, None, n_a),
-                       _build_tree(v_b, f_b), keep=(None, kept), b=(v_b, f_b) if find_shared else None,
-                       vertex_limit=vertex_limit)
+                       _build_tree(v_b, f_b), keep=(None, kept), b=b, vertex_limit=vertex_limit)
         vertex_part = np.empty(len(v_a), dtype=np.int64)
         vertex_part[f_a.ravel()] = np.repeat(part_a, 3)
         sides.append(_per_part(part_a[kept["triangle"]], kept["distance"],
