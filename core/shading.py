@@ -49,6 +49,8 @@ def corner_normals(vertices, faces, smooth, sharp_edges=None) -> np.ndarray:
     m = len(f)
     normals, _ = face_frames(v, f)
     smooth = np.asarray(smooth, dtype=bool)
+    if not smooth.any():  # flat shaded: no fans to find (a third of a small LOD's report)
+        return np.repeat(normals[:, None, :], 3, axis=1)
     conn = build(f, len(v))
     joined = conn.edge_faces == 2
     if sharp_edges is not None and len(sharp_edges):
