@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from addon.pure import measure
 from bpy_harness import run_scenario
@@ -38,6 +40,15 @@ def test_zero_area_faces_are_never_sampled():
     # Only face 1 (x + y <= 1, x, y >= 0) may be hit.
     assert np.all(pts[:, 0] + pts[:, 1] <= 1.0 + 1e-12)
     assert np.all(pts[:, 1] >= 0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(0, 6), min_size=1, max_size=60), st.integers(1, 70))
+def test_the_largest_few_are_what_a_full_stable_sort_gives(values, count):
+    # The climb's seeds: the same indices in the same order as the sort it replaces,
+    # ties (many here) included.
+    d = np.asarray(values, dtype=np.float64) / 7.0
+    np.testing.assert_array_equal(measure._largest(d, count), np.argsort(d, kind="stable")[-count:])
 
 
 class _PlaneTree:

@@ -198,8 +198,10 @@ def _surface_rng(seed: int, v: np.ndarray, f: np.ndarray) -> np.random.Generator
 
 
 def _triangle_areas(v: np.ndarray, f: np.ndarray) -> np.ndarray:
+    from ._core import core
+
     p0 = v[f[:, 0]]
-    return 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - p0, v[f[:, 2]] - p0), axis=1)
+    return 0.5 * np.linalg.norm(core.geometry.cross(v[f[:, 1]] - p0, v[f[:, 2]] - p0), axis=1)
 
 
 def mesh_area(vertices, faces) -> float:
@@ -362,7 +364,7 @@ def bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
 
 
 def _bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
-    used = v[np.unique(f)]
+    used = v[np.flatnonzero(np.bincount(f.ravel(), minlength=len(v)))]
     return float(np.linalg.norm(used.max(0) - used.min(0)))
 
 
@@ -446,14 +448,15 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
     count = min(CLIMB_SEEDS, -(-points // CLIMB_POINTS_PER_SEED))
     seed_tri, seed_bary = [], []
     if count and len(d_samples):
-        top = np.argsort(d_samples, kind="stable")[-count:]
+        top = _largest(d_samples, count)
         top = top[d_samples[top] > 0]
         seed_tri.append(tri[top])
         seed_bary.append(bary[top])
     if count and len(d_verts):
-        top = np.argsort(d_verts, kind="stable")[-count:]
-        corner = np.isin(f_a, used[top[d_verts[top] > 0]])
-        faces, slot = np.nonzero(corner)
+        top = _largest(d_verts, count)
+        seeded = np.zeros(len(v_a), dtype=bool)
+        seeded[used[top[d_verts[top] > 0]]] = True
+        faces, slot = np.nonzero(seeded[f_a])
         at = np.zeros((len(faces), 3))
         at[np.arange(len(faces)), slot] = 1.0
         seed_tri.append(faces)
@@ -482,6 +485,16 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
         best = trial.reshape(-1, CLIMB_TRIES, 3)[np.arange(len(seeds)), pick]
         spread *= 0.5
     return np.concatenate(found), np.tile(trial_tri, CLIMB_ROUNDS), np.concatenate(tried)
+
+
+def _largest(values: np.ndarray, count: int) -> np.ndarray:
+    """np.argsort(values, kind="stable")[-count:] (the ``count`` largest, ties to the later
+    index) without sorting them all: those at least the count-th largest, sorted."""
+    if count >= len(values):
+        return np.argsort(values, kind="stable")[-count:]
+    kth = len(values) - count
+    at = np.flatnonzero(values >= np.partition(values, kth)[kth])
+    return at[np.argsort(values[at], kind="stable")][-count:]
 
 
 def _vertex_distances(tree_b, verts, used, with_faces, b, d_samples) -> tuple:
@@ -844,7 +857,7 @@ def mesh_report(src_v, src_f, dst_v, dst_f, **deviation_options) -> dict:
     Keys: everything surface_deviation returns, plus mean_quality, min_quality,
     sliver_percent (core.quality_summary of dst), src_faces, dst_faces.
     """
-    from ._core import core  # (here, as elsewhere in this module: surface_deviation works without core)
+    from ._core import core  # (imported where it is used, as elsewhere in this module)
 
     report = surface_deviation(src_v, src_f, dst_v, dst_f, **deviation_options)
     report.update(core.quality_summary(np.asarray(dst_v, dtype=np.float64), np.asarray(dst_f)))
