@@ -162,6 +162,30 @@ def test_triangles_on_other_copies_of_their_vertices_are_known_without_a_query(m
     np.testing.assert_array_equal(sampled.src_nearest, sampled.src_triangle)  # the same triangle, not a neighbour
 
 
+def test_a_source_measured_again_reuses_its_samples_and_gives_the_same_numbers(brute_trees, monkeypatch):
+    # A source is measured against each of its levels with the same samples: the second
+    # measurement takes them (and the generator the climb goes on with) from the first,
+    # and gives exactly what measuring it afresh gives.
+    v, f = grid(5, jitter=0.2)
+    levels = [v + np.c_[np.zeros((len(v), 2)), h * np.sin(5 * v[:, 0])] for h in (0.03, 0.08)]
+    monkeypatch.setattr(measure, "_samples_cache", [])
+    made = []
+    fresh = measure._surface_rng
+    monkeypatch.setattr(measure, "_surface_rng", lambda *a: made.append(a[1]) or fresh(*a))
+    measure.surface_deviation(v, f, levels[0], f, n_samples=(300, 200), keep_samples=True)
+    again = measure.surface_deviation(v, f, levels[1], f, n_samples=(300, 200), keep_samples=True)
+    assert sum(x is v for x in made) == 1  # the source was sampled once
+    measure._samples_cache.clear()
+    measure._tree_cache.clear()
+    afresh = measure.surface_deviation(v, f, levels[1], f, n_samples=(300, 200), keep_samples=True)
+    for key in ("hausdorff", "mean", "hausdorff_src_to_dst", "mean_dst_to_src"):
+        assert again[key] == afresh[key]
+    for name in ("src_distance", "src_climbed_distance", "src_climbed_bary", "dst_vertex_distance"):
+        np.testing.assert_array_equal(getattr(again["sampled"], name), getattr(afresh["sampled"], name))
+    with pytest.raises(ValueError):
+        again["sampled"].src_bary[0, 0] = 1.0  # shared with the cache: read-only
+
+
 def test_part_deviations_of_one_part_are_surface_deviations_numbers(brute_trees):
     v, f = grid(4, jitter=0.2)
     lod_v = v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])]

@@ -292,6 +292,33 @@ def _build_tree(v: np.ndarray, f: np.ndarray):
     return tree
 
 
+# Likewise the area samples of the last few surfaces: a source is sampled the same way
+# for each of its levels (the same count and seed), and a posed character's joined
+# source for each level of a frame. A hit gives the arrays (read-only) and a generator
+# where the sampling left it, for the climb that draws from it next.
+_SAMPLES_CACHE_SIZE = 8
+_samples_cache: list = []
+
+
+def _sampled(v: np.ndarray, f: np.ndarray, n: int, seed: int) -> tuple:
+    """(points (n, 3), triangles (n,), barycentric coordinates (n, 3), the generator
+    after them): _sample_surface of (v, f) with _surface_rng(seed, v, f)."""
+    for i, (v_ref, f_ref, key, found) in enumerate(_samples_cache):
+        if v_ref() is v and f_ref() is f and key == (n, seed):
+            _samples_cache.append(_samples_cache.pop(i))
+            *arrays, state = found
+            rng = np.random.Generator(np.random.PCG64())
+            rng.bit_generator.state = state
+            return (*arrays, rng)
+    rng = _surface_rng(seed, v, f)
+    arrays = _sample_surface(v, f, n, rng)
+    for a in arrays:
+        a.setflags(write=False)
+    _samples_cache.append((weakref.ref(v), weakref.ref(f), (n, seed), (*arrays, rng.bit_generator.state)))
+    del _samples_cache[:-_SAMPLES_CACHE_SIZE]
+    return (*arrays, rng)
+
+
 def _distances(tree, points: np.ndarray, with_faces: bool = False, radius: Optional[float] = None):
     """Exact distance from each point to the surface in ``tree``, (k,) float64; with
     ``with_faces`` also the index (k,) int64 of the tree's triangle the closest point is on.
@@ -393,7 +420,7 @@ def _queried_vertices(f: np.ndarray, limit: Optional[int]) -> np.ndarray:
     return used
 
 
-def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None, vertex_limit=None) -> tuple:
+def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None, vertex_limit=None) -> tuple:
     """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
     surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
     normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
@@ -403,7 +430,7 @@ def _one_direction(v_a, f_a, rng_a, n_a, tree_b, shading=None, keep=None, b=None
     triangles use, are at distance 0 on it without a search (a LOD keeps its source's
     untouched triangles exactly: a third of the engine's large parts' at LOD1).
     ``vertex_limit``: query at most that many of a's vertices (_queried_vertices)."""
-    samples, tri, bary = _sample_surface(v_a, f_a, n_a, rng_a)
+    samples, tri, bary, rng_a = _sampled(v_a, f_a, n_a, seed)
     used = _queried_vertices(f_a, vertex_limit)
     verts = v_a[used]
     wanted = shading is not None or (keep is not None and keep[0] is not None)
@@ -680,11 +707,11 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
 
     kept = ({}, {}) if keep_samples else None
     src_on_dst = _coincident(vs, vd, fd)
-    h_sd, m_sd, k_src, angles = _one_direction(vs, fs, _surface_rng(seed, vs, fs), n_src, _build_tree(vd, fd),
+    h_sd, m_sd, k_src, angles = _one_direction(vs, fs, seed, n_src, _build_tree(vd, fd),
                                                shading, kept and ((vd, fd), kept[0]), b=src_on_dst,
                                                vertex_limit=vertex_limit)
     t1 = time.perf_counter()
-    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, _surface_rng(seed, vd, fd), n_dst, _build_tree(vs, fs),
+    h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, seed, n_dst, _build_tree(vs, fs),
                                           keep=kept and ((vs, fs), kept[1]), b=_coincident_back(src_on_dst, fs),
                                           vertex_limit=vertex_limit)
     t2 = time.perf_counter()
@@ -742,7 +769,7 @@ def part_deviations(src_vertices, src_faces, src_part, dst_vertices, dst_faces, 
             ((vd, fd, dst_part, n_dst), (vs, fs), src_on_dst and _coincident_back(src_on_dst, fs))):
         part_a = np.asarray(part_a, dtype=np.int64)
         kept = {}
-        _one_direction(v_a, f_a, _surface_rng(seed, v_a, f_a), _sample_count(v_a, f_a, None, n_a),
+        _one_direction(v_a, f_a, seed, _sample_count(v_a, f_a, None, n_a),
                        _build_tree(v_b, f_b), keep=(None, kept), b=b, vertex_limit=vertex_limit)
         vertex_part = np.empty(len(v_a), dtype=np.int64)
         vertex_part[f_a.ravel()] = np.repeat(part_a, 3)
