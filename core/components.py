@@ -85,13 +85,15 @@ def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, si
     k = len(part_area)
     if k < 2:
         return None, 0, np.inf
-    # Each part's bounding box from its corners (a face's corners share its part).
-    part_of_corner = np.repeat(part_of_face, 3)
-    corners = vertices[faces.ravel()]
+    # Each part's bounding box from its vertices (parts are joined by shared vertices, so
+    # every corner of a vertex is in one part): a sixth of the corners' updates.
+    part_of_vertex = np.full(len(vertices), -1, dtype=np.int64)
+    part_of_vertex[faces.ravel()] = np.repeat(part_of_face, 3)
+    used = np.flatnonzero(part_of_vertex >= 0)
     lo = np.full((k, 3), np.inf)
     hi = np.full((k, 3), -np.inf)
-    np.minimum.at(lo, part_of_corner, corners)
-    np.maximum.at(hi, part_of_corner, corners)
+    np.minimum.at(lo, part_of_vertex[used], vertices[used])
+    np.maximum.at(hi, part_of_vertex[used], vertices[used])
     diagonal = np.linalg.norm(hi - lo, axis=1)
     may_go = ~has_lock
     may_go[int(np.argmax(part_area))] = False
