@@ -32,17 +32,43 @@ def _get(collection, prop, count, dtype, width=1):
     return out.reshape(-1, width) if width > 1 else out
 
 
+def positions(mesh: bpy.types.Mesh) -> np.ndarray:
+    """(n, 3) float64 the vertices' positions: the "position" attribute read as one block
+    (3x faster than the vertices' "co", which goes through each vertex's RNA)."""
+    n = len(mesh.vertices)
+    attr = mesh.attributes.get("position")
+    source = (attr.data, "vector") if attr is not None and attr.domain == 'POINT' else (mesh.vertices, "co")
+    return _get(source[0], source[1], n, np.float32, 3).astype(np.float64).reshape(n, 3)
+
+
+def triangles(mesh: bpy.types.Mesh) -> tuple:
+    """(vertices (m, 3), loops (m, 3), polygon (m,)) of the mesh's triangles as
+    ``loop_triangles`` gives them, int64. A mesh of triangles only (a LOD, a glTF or
+    triangulated import) is its corners in order, read as one block from the internal
+    ".corner_vert" attribute: 20x faster than triangulating it and reading the loop
+    triangles (the posed distance reads 944 evaluated meshes for a 59-part character)."""
+    n_poly, n_loops = len(mesh.polygons), len(mesh.loops)
+    corner_vert = mesh.attributes.get(".corner_vert")
+    if n_loops == 3 * n_poly and corner_vert is not None and corner_vert.domain == 'CORNER':
+        # (Every face has at least 3 corners, so 3 per face means every face a triangle,
+        # its corners 3 f .. 3 f + 2: the triangle loop_triangles makes of it.)
+        tris = _get(corner_vert.data, "value", n_loops, np.int32).astype(np.int64).reshape(n_poly, 3)
+        return tris, np.arange(n_loops, dtype=np.int64).reshape(n_poly, 3), np.arange(n_poly, dtype=np.int64)
+    mesh.calc_loop_triangles()
+    m = len(mesh.loop_triangles)
+    return (_get(mesh.loop_triangles, "vertices", m, np.int32, 3).astype(np.int64).reshape(m, 3),
+            _get(mesh.loop_triangles, "loops", m, np.int32, 3).astype(np.int64).reshape(m, 3),
+            _get(mesh.loop_triangles, "polygon_index", m, np.int32).astype(np.int64))
+
+
 def read_mesh(mesh: bpy.types.Mesh, *, group_method: str = "auto", group_names=None) -> MeshData:
     """Everything :class:`MeshData` holds, read from ``mesh`` (not modified);
     ``group_names``: its vertex groups' names in index order when the caller has them
     (an object using the mesh lists them), else vertex_groups.group_names finds them."""
     n = len(mesh.vertices)
-    mesh.calc_loop_triangles()
-    m = len(mesh.loop_triangles)
-    verts = _get(mesh.vertices, "co", n, np.float32, 3).astype(np.float64)
-    tris = _get(mesh.loop_triangles, "vertices", m, np.int32, 3).astype(np.int64).reshape(m, 3)
-    tri_loops = _get(mesh.loop_triangles, "loops", m, np.int32, 3).astype(np.int64).reshape(m, 3)
-    tri_poly = _get(mesh.loop_triangles, "polygon_index", m, np.int32).astype(np.int64)
+    verts = positions(mesh)
+    tris, tri_loops, tri_poly = triangles(mesh)
+    m = len(tris)
     n_poly = len(mesh.polygons)
     poly_mat = _get(mesh.polygons, "material_index", n_poly, np.int32)
     poly_smooth = _get(mesh.polygons, "use_smooth", n_poly, bool)

@@ -193,15 +193,12 @@ def _joined(meshes: list, moves: np.ndarray) -> tuple:
 def evaluated_triangles(ob, depsgraph) -> tuple:
     """(vertices (n, 3) float64 in the object's own coordinates, triangles (m, 3)) of
     ``ob`` as the depsgraph evaluates it now (modifiers, pose)."""
-    from .mesh_io import _get
+    from .mesh_io import positions, triangles
 
     evaluated = ob.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        mesh.calc_loop_triangles()
-        n, m = len(mesh.vertices), len(mesh.loop_triangles)
-        vertices = _get(mesh.vertices, "co", n, np.float32, 3).astype(np.float64).reshape(n, 3)
-        faces = _get(mesh.loop_triangles, "vertices", m, np.int32, 3).astype(np.int64).reshape(m, 3)
+        vertices, faces = positions(mesh), triangles(mesh)[0]
     finally:
         evaluated.to_mesh_clear()
     return vertices, faces

@@ -40,4 +40,43 @@ def run() -> dict:
     sharp[:4] = True
     cube.data.attributes.new("sharp_edge", 'BOOLEAN', 'EDGE').data.foreach_set("value", sharp)
     out["cube"] = read(cube)
+    out["triangles"] = triangles_as_blender_makes_them()
+    return out
+
+
+def triangles_as_blender_makes_them() -> dict:
+    """mesh_io.triangles and positions against Blender's own loop triangles and vertex
+    coordinates: a triangulated monkey (the one-block read), the monkey as modelled
+    (quads and triangles) and a cylinder whose caps are n-gons (Blender triangulates)."""
+    out = {}
+    empty_scene()
+    bpy.ops.mesh.primitive_monkey_add()
+    monkey = bpy.context.active_object
+    tri = monkey.data.copy()
+    tri.name = "triangulated"
+    import bmesh
+    bm = bmesh.new()
+    bm.from_mesh(tri)
+    bmesh.ops.triangulate(bm, faces=bm.faces[:])
+    bm.to_mesh(tri)
+    bm.free()
+    bpy.ops.mesh.primitive_cylinder_add(vertices=12)
+    for name, mesh in (("triangulated", tri), ("quads", monkey.data), ("ngons", bpy.context.active_object.data)):
+        mesh.calc_loop_triangles()
+        m = len(mesh.loop_triangles)
+        expected = {prop: np.zeros(m * width, dtype=np.int64) for prop, width in
+                    (("vertices", 3), ("loops", 3), ("polygon_index", 1))}
+        for prop, array in expected.items():
+            mesh.loop_triangles.foreach_get(prop, array)
+        co = np.zeros(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        tris, loops, poly = mesh_io.triangles(mesh)
+        out[name] = {
+            "all_triangles": len(mesh.loops) == 3 * len(mesh.polygons),
+            "triangles": m,
+            "same": bool(np.array_equal(tris.ravel(), expected["vertices"])
+                         and np.array_equal(loops.ravel(), expected["loops"])
+                         and np.array_equal(poly, expected["polygon_index"])),
+            "positions": bool(np.array_equal(mesh_io.positions(mesh), co.reshape(-1, 3).astype(np.float64))),
+        }
     return out
