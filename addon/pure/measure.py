@@ -766,7 +766,7 @@ def part_deviations(src_vertices, src_faces, src_part, dst_vertices, dst_faces, 
     src_on_dst = _coincident(vs, vd, fd) if find_shared else None
     for (v_a, f_a, part_a, n_a), (v_b, f_b), b in (
             ((vs, fs, src_part, n_src), (vd, fd), src_on_dst),
-            ((vd, fd, dst_part, n_dst), (vs, fs), src_on_dst and _coincident_back(src_on_dst, fs))):
+            ((vd, fd, dst_part, n_dst), (vs, fs), None if src_on_dst is None else _coincident_back(src_on_dst, fs))):
         part_a = np.asarray(part_a, dtype=np.int64)
         kept = {}
         _one_direction(v_a, f_a, seed, _sample_count(v_a, f_a, None, n_a),
