@@ -186,6 +186,22 @@ def test_a_source_measured_again_reuses_its_samples_and_gives_the_same_numbers(b
         again["sampled"].src_bary[0, 0] = 1.0  # shared with the cache: read-only
 
 
+def test_a_freed_surface_leaves_the_caches_at_the_next_measurement(brute_trees, monkeypatch):
+    # The trees and samples are kept by array identity for the next level; once a surface's
+    # arrays are gone its entries must go too, not wait for eight newer ones (a scan's
+    # tree is hundreds of megabytes).
+    import gc
+
+    monkeypatch.setattr(measure, "_samples_cache", [])
+    v, f = grid(4, jitter=0.2)
+    measure.surface_deviation(v.copy(), f.copy(), v + 0.01, f.copy(), n_samples=(100, 100))
+    gc.collect()
+    kept, kept_too = v + 0.02, v + 0.03
+    measure.surface_deviation(kept, f, kept_too, f, n_samples=(100, 100))
+    for cache in (measure._tree_cache, measure._samples_cache):
+        assert cache and all(entry[0]() is not None and entry[1]() is not None for entry in cache)
+
+
 def test_part_deviations_of_one_part_are_surface_deviations_numbers(brute_trees):
     v, f = grid(4, jitter=0.2)
     lod_v = v + np.c_[np.zeros((len(v), 2)), 0.05 * np.sin(7 * v[:, 0])]

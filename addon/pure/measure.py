@@ -287,9 +287,17 @@ def _build_tree(v: np.ndarray, f: np.ndarray):
             return tree
     with gc_paused():
         tree = _tree_builder(v, f)
+    _tree_cache[:] = _live(_tree_cache)
     _tree_cache.append((weakref.ref(v), weakref.ref(f), _tree_builder, tree))
     del _tree_cache[:-_TREE_CACHE_SIZE]
     return tree
+
+
+def _live(cache: list) -> list:
+    """The entries of a cache whose arrays are still alive: a freed surface's tree or
+    samples are let go at the next insertion instead of when eight newer ones push them
+    out (a scan's tree, or a million samples, is hundreds of megabytes)."""
+    return [entry for entry in cache if entry[0]() is not None and entry[1]() is not None]
 
 
 # Likewise the area samples of the last few surfaces: a source is sampled the same way
@@ -314,6 +322,7 @@ def _sampled(v: np.ndarray, f: np.ndarray, n: int, seed: int) -> tuple:
     arrays = _sample_surface(v, f, n, rng)
     for a in arrays:
         a.setflags(write=False)
+    _samples_cache[:] = _live(_samples_cache)
     _samples_cache.append((weakref.ref(v), weakref.ref(f), (n, seed), (*arrays, rng.bit_generator.state)))
     del _samples_cache[:-_SAMPLES_CACHE_SIZE]
     return (*arrays, rng)
