@@ -38,7 +38,7 @@ def positions(mesh: bpy.types.Mesh) -> np.ndarray:
     n = len(mesh.vertices)
     attr = mesh.attributes.get("position")
     source = (attr.data, "vector") if attr is not None and attr.domain == 'POINT' else (mesh.vertices, "co")
-    return _get(source[0], source[1], n, np.float32, 3).astype(np.float64).reshape(n, 3)
+    return _get(*source, n, np.float32, 3).astype(np.float64).reshape(n, 3)
 
 
 def triangles(mesh: bpy.types.Mesh) -> tuple:

@@ -90,10 +90,11 @@ def smaller_than(faces: np.ndarray, vertices: np.ndarray, locked: np.ndarray, si
     part_of_vertex = np.full(len(vertices), -1, dtype=np.int64)
     part_of_vertex[faces.ravel()] = np.repeat(part_of_face, 3)
     used = np.flatnonzero(part_of_vertex >= 0)
+    part_of_used, used_at = part_of_vertex[used], vertices[used]
     lo = np.full((k, 3), np.inf)
     hi = np.full((k, 3), -np.inf)
-    np.minimum.at(lo, part_of_vertex[used], vertices[used])
-    np.maximum.at(hi, part_of_vertex[used], vertices[used])
+    np.minimum.at(lo, part_of_used, used_at)
+    np.maximum.at(hi, part_of_used, used_at)
     diagonal = np.linalg.norm(hi - lo, axis=1)
     may_go = ~has_lock
     may_go[int(np.argmax(part_area))] = False

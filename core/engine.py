@@ -647,7 +647,7 @@ def _screened(s: State, conn, cand, pass_no):
     s.passed_screen[cand.edge[tried[ok]]] = pass_no
     failed = np.zeros(len(cand.edge), dtype=bool)
     failed[tried[~ok]] = True
-    s.rejected_pass[cand.edge[failed]] = pass_no
+    _remember_rejections(s, conn, cand, tried[~ok], pass_no)
     return failed
 
 

@@ -49,7 +49,7 @@ def corner_normals(vertices, faces, smooth, sharp_edges=None) -> np.ndarray:
     m = len(f)
     normals, _ = face_frames(v, f)
     smooth = np.asarray(smooth, dtype=bool)
-    if not smooth.any():  # flat shaded: no fans to find (a third of a small LOD's report)
+    if not smooth.any():  # flat shaded: no fans to find (0.10 s of a 59-part character's 177 level reports)
         return np.repeat(normals[:, None, :], 3, axis=1)
     conn = build(f, len(v))
     joined = conn.edge_faces == 2
