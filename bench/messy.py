@@ -17,7 +17,7 @@ bounding-box diagonal (addon/pure/measure.py); slivers are faces of quality belo
 per-face columns are core's time per input face over homer's at the same ratio, and over
 that of the organic mesh nearest its size (issue 33 asks for "an organic mesh of similar
 size": a pass costs about a millisecond whatever its size, so a small mesh's time per
-face is higher however clean; spot's is 1.2-1.4x homer's). Prints a markdown table with
+face is higher however clean; spot's is about 1.4x homer's). Prints a markdown table with
 the processor it ran on; docs/method.md quotes it.
 """
 from __future__ import annotations
