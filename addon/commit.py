@@ -66,7 +66,7 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
     built = _build(outputs, names, group_names)
     _remove_earlier(built)
     reports = []
-    posed = []  # measured skinned chains: (source, LOD objects, level entries, diagonal, part samples)
+    posed = []  # measured skinned chains (posed_deviation.Chain)
     for source, out, objects, leader in built:
         group = group_names[id(out)]
         coll = _link(scene, source, objects, leader, len(group))
@@ -99,8 +99,9 @@ def commit(context_or_scene, outputs: list, sources: Optional[list] = None,
         if leader is not None:
             rep["shares"] = leader  # whose LOD meshes these are, and whose entry has the time
         elif out.input.settings.measuring() and armature_of(source) is not None:
-            posed.append((source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces),
-                          out.input.part_samples))
+            posed.append(posed_deviation.Chain(
+                source, objects, levels, measure.bbox_diagonal(data.vertices, data.faces), out.input.part_samples,
+                [(data.vertices, data.faces)] + [(level.vertices, level.faces) for level in out.levels]))
         reports.append(rep)
     if posed:  # over the rig's own actions (addon/posed_deviation.py), once the LODs are in the scene
         try:

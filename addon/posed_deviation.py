@@ -10,9 +10,13 @@ and their LODs are evaluated by Blender's depsgraph (the Armature modifier as it
 them, constraints, IK and Preserve Volume included: exact by construction) and measured
 against each other in their own (local) coordinates at posed_samples: level k of all
 the chains one armature deforms in one go (measure.part_deviations), each chain's
-numbers from its own points. Per LOD the report gets the mean and the largest, over the
-frames, of the two-sided Hausdorff and mean distance, in percent of the source's
-bounding-box diagonal at rest.
+numbers from its own points. A LOD that moved with its source as one rigid body since
+the rest shapes its report measured (level_deviation.moved_rigidly: a part skinned to one
+bone, or a frame at the rest pose) is as far from it as at rest and takes the report's
+numbers instead: a rigid character's 59 parts took 0.6 s to measure at 4 frames, now
+none. Per LOD the report gets the mean and the largest, over the frames, of the
+two-sided Hausdorff and mean distance, in percent of the source's bounding-box diagonal
+at rest.
 
 The scene is left as it was: the frame, the armature's action (and slot), its NLA
 switch, its pose and its transform are put back, whatever happens. An armature with no
@@ -22,7 +26,7 @@ LOD objects are linked).
 from __future__ import annotations
 
 import contextlib
-from typing import Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -44,6 +48,20 @@ POSED_SHARE = 2  # a frame: the report's area samples / (POSED_SHARE * frames), 
 _POSE_PROPS = (("location", 3), ("rotation_quaternion", 4), ("rotation_euler", 3), ("rotation_axis_angle", 4),
                ("scale", 3))
 _OBJECT_PROPS = ("location", "rotation_quaternion", "rotation_euler", "rotation_axis_angle", "scale")
+
+
+class Chain(NamedTuple):
+    """A measured skinned chain: its ``source`` object, its LOD objects ``lods`` and their
+    report entries ``entries`` (each gets ``posed``), the source's bounding-box
+    ``diagonal`` at rest (what the percentages are of), its LodInput.part_samples, and
+    ``rest``: the surfaces the report measured, [(vertices, faces)] of the source then
+    of each LOD, or None (each level is then measured at every frame)."""
+    source: object
+    lods: list
+    entries: list
+    diagonal: float
+    part_samples: Optional[int] = None
+    rest: Optional[list] = None
 
 
 def posed_samples_of(surfaces: list, frames: int = MAX_FRAMES) -> int:
@@ -132,35 +150,49 @@ def _play(arm, action, slot) -> None:
 
 
 def _measure_frame(depsgraph, group, frames: int) -> list:
-    """[(level entry, Hausdorff %, mean %)] of every level of the ``group``'s chains as the
-    depsgraph poses them now. Level k of all the chains is measured in one go against
-    all their sources (measure.part_deviations: one tree and one query loop a side,
-    whatever the number of parts), each chain's numbers from the points on its own
-    triangles, in percent of its own diagonal at rest; the sources' joined mesh (and so
-    its tree) is the same for every level that has all the chains."""
-    sources = [evaluated_triangles(chain[0], depsgraph) for chain in group]
-    levels = [[evaluated_triangles(lod, depsgraph) for lod in chain[1]] for chain in group]
+    """[(level entry, Hausdorff %, mean %, whether it moved rigidly)] of every level of
+    the ``group``'s chains as the depsgraph poses them now. A level that moved with its
+    source as one rigid body since the rest shapes the report measured (a part skinned
+    to one bone; level_deviation.moved_rigidly) is as far from it as at rest: it takes
+    its report's numbers, no query. The others, level k of all the chains, are measured
+    in one go against all their sources (measure.part_deviations: one tree and one query
+    loop a side, whatever the number of parts), each chain's numbers from the points on
+    its own triangles, in percent of its own diagonal at rest; the sources' joined mesh
+    (and so its tree) is the same for every level that has the same chains."""
+    sources = [evaluated_triangles(chain.source, depsgraph) for chain in group]
+    levels = [[evaluated_triangles(lod, depsgraph) for lod in chain.lods] for chain in group]
+    out = []
+    measured = []  # (chain, level) pairs that moved otherwise
+    for i, chain in enumerate(group):
+        for k, entry in enumerate(chain.entries):
+            rest = chain.rest
+            if (rest is not None and k + 1 < len(rest) and "hausdorff_percent" in entry
+                    and level_deviation.moved_rigidly([rest[0], rest[k + 1]], [sources[i], levels[i][k]],
+                                                      chain.diagonal)):
+                out.append((entry, float(entry["hausdorff_percent"]), float(entry["mean_percent"]), True))
+            else:
+                measured.append((i, k))
+    if not measured:
+        return out
     moves = _apart([sources[i]] + levels[i] for i in range(len(group)))
     joined_sources = {}
-    out = []
-    for k in range(max(len(chain[1]) for chain in group)):
-        chains = tuple(i for i in range(len(group))
-                       if k < len(levels[i]) and len(sources[i][1]) and len(levels[i][k][1]))
+    for k in sorted({k for _, k in measured}):
+        chains = tuple(i for i, kk in measured if kk == k and len(sources[i][1]) and len(levels[i][k][1]))
         if not chains:
             continue
         if chains not in joined_sources:
             joined_sources[chains] = _joined([sources[i] for i in chains], moves[list(chains)])
         src_v, src_f, src_part = joined_sources[chains]
         dst_v, dst_f, dst_part = _joined([levels[i][k] for i in chains], moves[list(chains)])
-        n_src = posed_samples_of([(len(sources[i][1]), group[i][4]) for i in chains], frames)
-        n_dst = posed_samples_of([(len(levels[i][k][1]), group[i][4]) for i in chains], frames)
+        n_src = posed_samples_of([(len(sources[i][1]), group[i].part_samples) for i in chains], frames)
+        n_dst = posed_samples_of([(len(levels[i][k][1]), group[i].part_samples) for i in chains], frames)
         hausdorff, mean = measure.part_deviations(src_v, src_f, src_part, dst_v, dst_f, dst_part, len(chains),
                                                   n_samples=(n_src, n_dst), vertex_limit=max(n_src, n_dst),
                                                   find_shared=False)
         for j, i in enumerate(chains):
-            diagonal = group[i][3]
+            diagonal = group[i].diagonal
             scale = 100.0 / diagonal if diagonal > 0 else float("nan")
-            out.append((group[i][2][k], float(hausdorff[j]) * scale, float(mean[j]) * scale))
+            out.append((group[i].entries[k], float(hausdorff[j]) * scale, float(mean[j]) * scale, False))
     return out
 
 
@@ -207,24 +239,23 @@ def evaluated_triangles(ob, depsgraph) -> tuple:
 def measure_chains(scene, depsgraph_of, chains: list) -> None:
     """Give each level entry of the skinned ``chains`` its ``posed`` entry.
 
-    chains: [(source object, its LOD objects, their report entries, the source's
-    bounding-box diagonal at rest, its LodInput.part_samples)]; a chain whose source no armature deforms is left
-    out. ``depsgraph_of()``: the scene's evaluated depsgraph, current."""
+    chains: [Chain]; a chain whose source no armature deforms is left out.
+    ``depsgraph_of()``: the scene's evaluated depsgraph, current."""
     by_armature = {}
     for chain in chains:
-        arm = armature_of(chain[0])
-        if arm is not None and chain[1]:
+        arm = armature_of(chain.source)
+        if arm is not None and chain.lods:
             by_armature.setdefault(arm.name, (arm, []))[1].append(chain)
     for arm, group in by_armature.values():
         actions = actions_of(arm)
         if not actions:
-            for _, _, entries, _, _ in group:
+            for entries in (chain.entries for chain in group):
                 for entry in entries:
                     entry["posed"] = {"actions": [], "frames": 0,
                                       "note": f'the armature "{arm.name}" has no actions: nothing to pose it with'}
             continue
         if arm.animation_data.use_tweak_mode:
-            for _, _, entries, _, _ in group:
+            for entries in (chain.entries for chain in group):
                 for entry in entries:
                     entry["posed"] = {"actions": [], "frames": 0,
                                       "note": f'the armature "{arm.name}" is in NLA tweak mode: not posed'}
@@ -249,10 +280,10 @@ def _triangles(ob) -> int:
 
 def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
     most = frame_budget(sum(_triangles(source) + sum(_triangles(lod) for lod in lods)
-                            for source, lods, _, _, _ in group))
+                            for source, lods, *_ in group))
     played = actions[:most]
     count = level_deviation.frames_per_action(len(played), FRAMES_PER_ACTION, most)
-    per_level = {id(entry): [] for _, _, entries, _, _ in group for entry in entries}
+    per_level = {id(entry): [] for chain in group for entry in chain.entries}
     frames_of = [{"name": action.name, "frames": level_deviation.sample_frames(*action.frame_range, count)}
                  for action, _ in played]
     frames_in_all = sum(len(f["frames"]) for f in frames_of)
@@ -263,16 +294,18 @@ def _measure_group(scene, depsgraph_of, arm, actions, group) -> None:
                 scene.frame_set(frame)
                 depsgraph = depsgraph_of()
                 depsgraph.update()
-                for entry, h, m in _measure_frame(depsgraph, group, frames_in_all):
-                    per_level[id(entry)].append((action.name, frame, h, m))
+                for entry, h, m, rigid in _measure_frame(depsgraph, group, frames_in_all):
+                    per_level[id(entry)].append((action.name, frame, h, m, rigid))
     skipped = len(actions) - len(played)
-    for _, _, entries, _, _ in group:
+    for entries in (chain.entries for chain in group):
         for entry in entries:
             rows = per_level[id(entry)]
             posed = {"armature": arm.name, "actions": frames_of, "frames": len(rows),
                      **level_deviation.posed_summary([r[2] for r in rows], [r[3] for r in rows]),
+                     # (frames at which the LOD moved with its source as one rigid body: its rest numbers)
+                     "rigid_frames": sum(1 for r in rows if r[4]),
                      "per_frame": [{"action": a, "frame": f, "hausdorff_percent": h, "mean_percent": m}
-                                   for a, f, h, m in rows]}
+                                   for a, f, h, m, _ in rows]}
             if skipped:
                 posed["note"] = f"{skipped} more actions not played (at most {most} frames for this armature)"
             entry["posed"] = posed

@@ -143,6 +143,25 @@ def test_posed_distance_over_the_rigs_actions(posed):
     assert ind["measured"] == pytest.approx(ind["reported"], rel=1e-6), ind
 
 
+def test_a_part_moving_as_one_rigid_body_keeps_its_rest_distance(posed):
+    """Turned, a part skinned to one bone is as far from its LOD as at rest: the report's
+    numbers, no measurement. Grown, it is measured: 1.5 times as far at the frame it is
+    1.5 times as large (frame 11; percent of the rest diagonal)."""
+    r = posed["rigid"]
+    assert r["warnings"] == []
+    for rest, entry in zip(r["rest"], r["posed"]):
+        assert [a["name"] for a in entry["actions"]] == ["Turn", "Grow"]
+        turn = [row for row in entry["per_frame"] if row["action"] == "Turn"]
+        grow = {row["frame"]: row for row in entry["per_frame"] if row["action"] == "Grow"}
+        assert len(turn) == 8 and len(grow) == 8
+        for row in turn + [grow[1], grow[24]]:  # (rest scale at Grow's ends)
+            assert (row["hausdorff_percent"], row["mean_percent"]) == (rest["hausdorff_percent"],
+                                                                       rest["mean_percent"]), row
+        assert entry["rigid_frames"] == 10
+        assert grow[11]["hausdorff_percent"] == pytest.approx(1.5 * rest["hausdorff_percent"], rel=0.25)
+        assert grow[11]["mean_percent"] == pytest.approx(1.5 * rest["mean_percent"], rel=0.25)
+
+
 def test_the_scene_is_put_back_after_posing(posed):
     r = posed["restored"]
     for key in ("frame", "action", "use_nla", "tracks"):

@@ -227,6 +227,58 @@ def test_heavy_rigs_are_posed_at_fewer_frames_and_sampled_from_their_reports():
                                                 sum(report_samples(t, s) for t, s in parts) // 8)
 
 
+def _bumpy_part(seed: int):
+    """(vertices, faces) of a closed, bumpy part: an octahedron's faces over jittered points."""
+    rng = np.random.default_rng(seed)
+    v = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
+    v = v * rng.uniform(0.5, 1.5, size=(6, 1)) + [3.0, -2.0, 7.0]
+    f = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    return v, f
+
+
+def _rotation(rng, reflect: bool) -> np.ndarray:
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    if (np.linalg.det(q) < 0) != reflect:
+        q[:, 0] = -q[:, 0]
+    return q
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.booleans(), st.floats(-1e3, 1e3))
+def test_a_rigid_motion_of_source_and_lod_keeps_their_rest_distances(seed, reflect, shift):
+    rng = np.random.default_rng(seed)
+    source, lod = _bumpy_part(seed), _bumpy_part(seed + 1)
+    lod = (lod[0], lod[1][:6])  # (a LOD of other vertices and fewer faces)
+    rot, move = _rotation(rng, reflect), rng.normal(size=3) * shift
+    posed = [(v @ rot.T + move, f) for v, f in (source, lod)]
+    diagonal = float(np.linalg.norm(np.ptp(source[0], axis=0)))
+    assert ld.moved_rigidly([source, lod], posed, diagonal)
+    # A scale, a bend (one vertex of the LOD off its place) or other faces is not rigid
+    # (1 % of the part: float32's rounding of coordinates a thousand parts away is 0.2 %).
+    centre = posed[0][0].mean(axis=0)
+    assert not ld.moved_rigidly([source, lod], [((v - centre) * 1.01 + centre, f) for v, f in posed], diagonal)
+    bent = posed[1][0].copy()
+    bent[int(rng.integers(len(bent)))] += 1e-2 * diagonal
+    assert not ld.moved_rigidly([source, lod], [posed[0], (bent, lod[1])], diagonal)
+    assert not ld.moved_rigidly([source, lod], [posed[0], (posed[1][0], lod[1][::-1])], diagonal)
+    assert not ld.moved_rigidly([source, lod], [posed[0], (posed[1][0][:-1], lod[1])], diagonal)
+
+
+def test_a_flat_part_is_rigid_only_when_it_moved_so():
+    # A square and its LOD in one plane: the fit is free about the plane's normal, and the
+    # check at every vertex still tells a turn from a fold.
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]], dtype=np.float64)
+    f = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    lod = (v[:4].copy(), np.array([[0, 1, 2], [0, 2, 3]]))
+    c, s = np.cos(0.7), np.sin(0.7)
+    turn = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    assert ld.moved_rigidly([(v, f), lod], [(v @ turn.T, f), (lod[0] @ turn.T, lod[1])], 1.4)
+    folded = v.copy()
+    folded[4, 2] = 0.1
+    assert not ld.moved_rigidly([(v, f), lod], [(folded, f), lod], 1.4)
+
+
 def test_posed_summary_is_the_mean_and_largest_over_frames():
     s = ld.posed_summary([1.0, 3.0], [0.1, 0.2])
     assert s == {"hausdorff_percent": {"mean": 2.0, "max": 3.0}, "mean_percent": {"mean": pytest.approx(0.15),

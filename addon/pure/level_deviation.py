@@ -41,6 +41,14 @@ SCALE_PROPERTY = "lod_deviation_scale"  # on the LOD's mesh: the distance that i
 REGION_WEIGHT = 0.5  # a sample is in a painted region where the group's weight is at least this
 NO_MATERIAL = "(no material)"
 PERCENTILE = 95.0
+# A posed source and LOD whose every vertex lies within this share of the source's
+# diagonal (or RIGID_ROUNDING float32 steps of its coordinates, whichever is more) of
+# one rigid motion of their rest shapes take their rest distances (moved_rigidly): a
+# distance then moves by 2e-4 % of the diagonal at most. Blender skins in float32: the
+# 59 one-bone parts of bench/many_parts.py came within 1.2e-6 of their diagonals and 2e-7
+# (1.7 steps) of their coordinates.
+RIGID_TOLERANCE = 1e-6
+RIGID_ROUNDING = 16
 
 # The heat ramp in display (sRGB) colours, evenly spaced from 0 to 1: Blender's weight
 # paint colours (blue, cyan, green, yellow, red).
@@ -280,6 +288,36 @@ def frames_per_action(actions: int, per_action: int, total: int) -> int:
     """How many frames each of ``actions`` actions gets: ``per_action``, fewer when that
     would pass ``total`` in all, never below one."""
     return max(1, min(per_action, total // max(actions, 1)))
+
+
+def moved_rigidly(rest: list, posed: list, diagonal: float) -> bool:
+    """Whether the surfaces ``posed`` [(vertices (n, 3), faces (m, 3))] are the surfaces
+    ``rest`` (the same faces, vertex for vertex) moved by one isometry, every vertex
+    within RIGID_TOLERANCE of ``diagonal`` (the rest source's) or RIGID_ROUNDING float32
+    steps of the coordinates: a part skinned to one bone, or a pose that is the rest pose.
+    Distances between such surfaces are their rest distances: the posed distance of a
+    source and LOD that moved so together is what the level report measured at rest
+    (to twice the tolerance).
+
+    The isometry is the orthogonal Procrustes fit of all the rest vertices to the posed
+    ones (reflections allowed: they keep distances too); its residual is checked at
+    every vertex, so a part that is flat or a line can only fail the test, not pass it
+    wrongly."""
+    if len(rest) != len(posed) or not rest:
+        return False
+    for (v0, f0), (v1, f1) in zip(rest, posed):
+        if np.shape(v0) != np.shape(v1) or np.shape(f0) != np.shape(f1) or not np.array_equal(f0, f1):
+            return False
+    a = np.concatenate([np.asarray(v, dtype=np.float64) for v, _ in rest])
+    b = np.concatenate([np.asarray(v, dtype=np.float64) for v, _ in posed])
+    if len(a) == 0 or not (np.isfinite(a).all() and np.isfinite(b).all()):
+        return False
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
+    moved = (a - ca) @ (u @ vt) + cb
+    rounding = RIGID_ROUNDING * float(np.finfo(np.float32).eps) * float(max(np.abs(a).max(), np.abs(b).max()))
+    tolerance = max(RIGID_TOLERANCE * float(diagonal), rounding)
+    return float(np.abs(moved - b).max()) <= tolerance
 
 
 def posed_summary(hausdorff: list, mean: list) -> dict:

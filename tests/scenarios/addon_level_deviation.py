@@ -240,7 +240,40 @@ def run_posed() -> dict:
                              "measured": again["hausdorff"] * 100.0 / measure.bbox_diagonal(rest_v, rest_f),
                              "moved": float(np.abs(src[0] - rest_v).max())}
     rig.animation_data.use_nla = True
+    result["rigid"] = rigid_part()
     return result
+
+
+def rigid_part() -> dict:
+    """A bumpy tube skinned wholly to one bone ("Lower", weight 1), played by "Turn" (the
+    bone turns 60 degrees: the tube moves as one rigid body) and "Grow" (it turns and
+    grows 1.5 times at frame 11)."""
+    lod = extension_module("addon.lod")
+    LodSettings = extension_module("addon.pure.settings").LodSettings
+    empty_scene()
+    rig = three_bone_rig()
+    ob, _, _ = capped_tube("Part", lambda z: 0.2 + 0.05 * np.sin(z * 7.0) ** 2, around=24, rings=40)
+    group = ob.vertex_groups.new(name="Lower")
+    group.add(list(range(len(ob.data.vertices))), 1.0, 'REPLACE')
+    ob.modifiers.new("Armature", 'ARMATURE').object = rig
+    ob.parent = rig
+    rig.animation_data_create()
+    pb = rig.pose.bones["Lower"]
+    pb.rotation_mode = 'XYZ'
+    for name, scale in (("Grow", 1.5), ("Turn", 1.0)):
+        rig.animation_data.action = bpy.data.actions.new(name)
+        for frame, angle, s in ((1, 0.0, 1.0), (11, 60.0, scale), (24, -30.0, 1.0)):
+            pb.rotation_euler = (math.radians(angle), 0.0, 0.0)
+            pb.scale = (s, s, s)
+            pb.keyframe_insert("rotation_euler", frame=frame)
+            pb.keyframe_insert("scale", frame=frame)
+    track = rig.animation_data.nla_tracks.new()
+    track.strips.new("Grow", 1, bpy.data.actions["Grow"])
+    rep = lod.generate_lods(bpy.context.scene, ob, LodSettings(ratio=0.25, levels=2))
+    return {"warnings": rep["warnings"],
+            "rest": [{"hausdorff_percent": lv["hausdorff_percent"], "mean_percent": lv["mean_percent"]}
+                     for lv in rep["levels"]],
+            "posed": [lv["posed"] for lv in rep["levels"]]}
 
 
 def run(which: str) -> dict:
