@@ -162,7 +162,7 @@ def _measure_frame(depsgraph, group, frames: int) -> list:
     sources = [evaluated_triangles(chain.source, depsgraph) for chain in group]
     levels = [[evaluated_triangles(lod, depsgraph) for lod in chain.lods] for chain in group]
     out = []
-    measured = []  # (chain, level) pairs that moved otherwise
+    measured = []  # (chain index, level index) of the levels that moved otherwise
     for i, chain in enumerate(group):
         for k, entry in enumerate(chain.entries):
             rest = chain.rest

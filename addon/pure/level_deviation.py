@@ -48,8 +48,8 @@ PERCENTILE = 95.0
 # 1.7 steps, 1.2e-6 of their diagonals), so RIGID_ROUNDING steps of the largest
 # coordinate are allowed too, but never more than RIGID_MOST of the diagonal: a small part
 # far from its origin, where float32 cannot tell a rigid motion from a bend that small,
-# is measured. A distance then moves by at most twice the allowance (2e-3 % of the
-# diagonal), under the reported figures' last place.
+# is measured. A distance then moves by at most twice the allowance: 2e-4 % of the
+# diagonal, 2e-3 % where float32's steps set it.
 RIGID_TOLERANCE = 1e-6
 RIGID_ROUNDING = 8
 RIGID_MOST = 1e-5
