@@ -151,10 +151,10 @@ def _play(arm, action, slot) -> None:
 
 def _measure_frame(depsgraph, group, frames: int) -> list:
     """[(level entry, Hausdorff %, mean %, whether it moved rigidly)] of every level of
-    the ``group``'s chains as the depsgraph poses them now. A level that moved with its
-    source as one rigid body since the rest shapes the report measured (a part skinned
-    to one bone; level_deviation.moved_rigidly) is as far from it as at rest: it takes
-    its report's numbers, no query. The others, level k of all the chains, are measured
+    the ``group``'s chains as the depsgraph poses them now. A chain whose source and LODs
+    moved as one rigid body since the rest shapes the report measured (a part skinned to
+    one bone; level_deviation.moved_rigidly) is as far from them as at rest: its levels
+    take their reports' numbers, no query. The others, level k of all the chains, are measured
     in one go against all their sources (measure.part_deviations: one tree and one query
     loop a side, whatever the number of parts), each chain's numbers from the points on
     its own triangles, in percent of its own diagonal at rest; the sources' joined mesh
@@ -164,11 +164,12 @@ def _measure_frame(depsgraph, group, frames: int) -> list:
     out = []
     measured = []  # (chain index, level index) of the levels that moved otherwise
     for i, chain in enumerate(group):
+        # (one fit for the chain: its LODs carry its skin, so they move with it or not at all)
+        rigid = (chain.rest is not None and len(chain.rest) == len(chain.entries) + 1
+                 and all("hausdorff_percent" in entry for entry in chain.entries)
+                 and level_deviation.moved_rigidly(chain.rest, [sources[i], *levels[i]], chain.diagonal))
         for k, entry in enumerate(chain.entries):
-            rest = chain.rest
-            if (rest is not None and k + 1 < len(rest) and "hausdorff_percent" in entry
-                    and level_deviation.moved_rigidly([rest[0], rest[k + 1]], [sources[i], levels[i][k]],
-                                                      chain.diagonal)):
+            if rigid:
                 out.append((entry, float(entry["hausdorff_percent"]), float(entry["mean_percent"]), True))
             else:
                 measured.append((i, k))
