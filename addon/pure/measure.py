@@ -361,7 +361,7 @@ def _queried(tree, points: np.ndarray, with_faces: bool, radius: Optional[float]
                             dtype=np.float64, count=pilot_count)
         radius = _upper_quantile(pilot) * _RADIUS_FACTOR
     # A floor keeps the radius positive when the surfaces coincide (all pilot distances 0).
-    extent = float(points.max() - points.min()) if len(points) > 1 else 1.0
+    extent = float((points.max(axis=0) - points.min(axis=0)).max()) if len(points) > 1 else 1.0
     radius = max(radius, extent * 1e-6, 1e-12)
     # None (nothing within the radius) becomes NaN here and is re-queried unbounded.
     # map, itemgetter and fromiter keep the loop over the points in C: no bytecode and no
