@@ -281,16 +281,31 @@ def _build_tree(v: np.ndarray, f: np.ndarray):
     if _tree_builder is None:
         raise RuntimeError("no closest-point tree to measure with: the add-on's package installs "
                            "Blender's on import (addon/bvh.py)")
-    for i, (v_ref, f_ref, build, tree) in enumerate(_tree_cache):
-        if v_ref() is v and f_ref() is f and build is _tree_builder:
-            _tree_cache.append(_tree_cache.pop(i))
-            return tree
+    found = _cached(_tree_cache, v, f, _tree_builder)
+    if found is not None:
+        return found
     with gc_paused():
         tree = _tree_builder(v, f)
-    _tree_cache[:] = _live(_tree_cache)
-    _tree_cache.append((weakref.ref(v), weakref.ref(f), _tree_builder, tree))
-    del _tree_cache[:-_TREE_CACHE_SIZE]
-    return tree
+    return _cache(_tree_cache, _TREE_CACHE_SIZE, v, f, _tree_builder, tree)
+
+
+def _cached(cache: list, v: np.ndarray, f: np.ndarray, key):
+    """The value ``cache`` holds for the surface (v, f), by array identity, and ``key``
+    (moved to the newest end), or None. Entries: (weak v, weak f, key, value)."""
+    for i, (v_ref, f_ref, entry_key, value) in enumerate(cache):
+        if v_ref() is v and f_ref() is f and entry_key == key:
+            cache.append(cache.pop(i))
+            return value
+    return None
+
+
+def _cache(cache: list, size: int, v: np.ndarray, f: np.ndarray, key, value):
+    """``value`` kept in ``cache`` for (v, f) and ``key``: the entries of freed surfaces
+    dropped first, at most ``size`` kept, the oldest going. Returns ``value``."""
+    cache[:] = _live(cache)
+    cache.append((weakref.ref(v), weakref.ref(f), key, value))
+    del cache[:-size]
+    return value
 
 
 def _live(cache: list) -> list:
@@ -311,20 +326,16 @@ _samples_cache: list = []
 def _sampled(v: np.ndarray, f: np.ndarray, n: int, seed: int) -> tuple:
     """(points (n, 3), triangles (n,), barycentric coordinates (n, 3), the generator
     after them): _sample_surface of (v, f) with _surface_rng(seed, v, f)."""
-    for i, (v_ref, f_ref, key, found) in enumerate(_samples_cache):
-        if v_ref() is v and f_ref() is f and key == (n, seed):
-            _samples_cache.append(_samples_cache.pop(i))
-            *arrays, state = found
-            rng = np.random.Generator(np.random.PCG64())
-            rng.bit_generator.state = state
-            return (*arrays, rng)
-    rng = _surface_rng(seed, v, f)
-    arrays = _sample_surface(v, f, n, rng)
-    for a in arrays:
-        a.setflags(write=False)
-    _samples_cache[:] = _live(_samples_cache)
-    _samples_cache.append((weakref.ref(v), weakref.ref(f), (n, seed), (*arrays, rng.bit_generator.state)))
-    del _samples_cache[:-_SAMPLES_CACHE_SIZE]
+    found = _cached(_samples_cache, v, f, (n, seed))
+    if found is None:
+        rng = _surface_rng(seed, v, f)
+        arrays = _sample_surface(v, f, n, rng)
+        for a in arrays:
+            a.setflags(write=False)
+        found = _cache(_samples_cache, _SAMPLES_CACHE_SIZE, v, f, (n, seed), (*arrays, rng.bit_generator.state))
+    *arrays, state = found
+    rng = np.random.Generator(np.random.PCG64())
+    rng.bit_generator.state = state
     return (*arrays, rng)
 
 
@@ -400,7 +411,7 @@ def bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
 
 
 def _bbox_diagonal(v: np.ndarray, f: np.ndarray) -> float:
-    used = v[np.flatnonzero(np.bincount(f.ravel(), minlength=len(v)))]
+    used = v[_queried_vertices(f, None)]
     return float(np.linalg.norm(used.max(0) - used.min(0)))
 
 
