@@ -213,14 +213,17 @@ def gather_vertex_corners(faces: np.ndarray, vertices: np.ndarray, n_vertices: i
 def gather_corners_of_each(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> tuple:
     """gather_vertex_corners where a vertex may be listed more than once (collapses that
     are not independent): every listing gets all the vertex's corners. Returns (owner
-    (c,), corners (c,)), owner in ascending order. One sort of all the corners by vertex."""
-    flat = faces.ravel()
-    order = np.argsort(flat, kind="stable")
-    start = np.searchsorted(flat[order], vertices, side="left")
-    count = np.searchsorted(flat[order], vertices, side="right") - start
+    (c,), corners (c,)), owner in ascending order, each listing's corners ascending. One
+    scan of the faces for the distinct vertices, then their corners grouped by vertex."""
+    unique, listing = np.unique(vertices, return_inverse=True)
+    unique_owner, unique_corner = gather_vertex_corners(faces, unique, n_vertices)
+    by_vertex = np.argsort(unique_owner, kind="stable")
+    per_vertex = np.bincount(unique_owner, minlength=len(unique))
+    first_of_vertex = np.cumsum(per_vertex) - per_vertex
+    count = per_vertex[listing]
     owner = np.repeat(np.arange(len(vertices), dtype=np.int64), count)
-    first = np.repeat(start - (np.cumsum(count) - count), count)
-    return owner, order[first + np.arange(len(owner))]
+    offset = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+    return owner, unique_corner[by_vertex[np.repeat(first_of_vertex[listing], count) + offset]]
 
 
 def fans_per_vertex(conn: Connectivity, faces: np.ndarray, n_vertices: int) -> np.ndarray:

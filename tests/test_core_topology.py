@@ -176,3 +176,18 @@ def test_two_closed_fans_at_a_vertex_are_locked_and_stay_apart():
     check.assert_valid_result(r, V, F, manifold=False)
     assert pole1 in r.vertex_origin
     assert np.array_equal(r.vertices[r.vertex_origin == pole1][0], V[pole1])
+
+
+@settings(max_examples=200, **SETTINGS)
+@given(n=st.integers(1, 40), data=st.data())
+def test_corners_of_each_listing_match_a_scan_in_order(n, data):
+    """gather_corners_of_each: every listing of a vertex (repeats included) gets all its
+    corners, ascending, and the listings come in the order given (the validation fans and
+    the seam pairs' swept distance read them grouped that way)."""
+    faces = np.array(data.draw(st.lists(st.lists(st.integers(0, n - 1), min_size=3, max_size=3), max_size=40)),
+                     dtype=np.int64).reshape(-1, 3)
+    vertices = np.array(data.draw(st.lists(st.integers(0, n - 1), max_size=20)), dtype=np.int64)
+    owner, corners = topology.gather_corners_of_each(faces, vertices, n)
+    flat = faces.ravel()
+    want = [(i, c) for i, v in enumerate(vertices) for c in np.flatnonzero(flat == v)]
+    assert list(zip(owner.tolist(), corners.tolist())) == want
