@@ -340,3 +340,46 @@ def t_junction_slit(left: int = 12, right: int = 7, rows: int = 10):
     lv = np.c_[lv[:, 0] - 1.0, lv[:, 1], lv[:, 2]]
     V, F = components([(lv, lf), (rv, rf)])
     return weld_exact(V, F)
+
+
+def filleted_puck(n_around: int = 64, n_cap: int = 4, n_fillet: int = 4, radius: float = 1.0,
+                  fillet: float = 0.05, height: float = 0.2):
+    """A closed puck, as CAD tessellates one: a flat cap in rings, a quarter-round fillet of
+    radius ``fillet`` down to a straight wall, a flat bottom. UVs in two islands, the cap
+    with its fillet planar and the wall with the bottom cylindrical, so a UV seam runs
+    round the fillet's foot on the wall (BoomBox's knobs are made this way).
+    Returns (V, F, UV (m, 3, 2))."""
+    cap = [(radius - fillet) * i / n_cap for i in range(1, n_cap + 1)]
+    profile = [(r, height) for r in cap]
+    for j in range(1, n_fillet + 1):
+        a = 0.5 * np.pi * j / n_fillet
+        profile.append((radius - fillet + fillet * np.sin(a), height - fillet + fillet * np.cos(a)))
+    foot = len(profile) - 1
+    profile += [(radius, (height - fillet) * (1 - j / 2)) for j in (1, 2)]
+    profile += [(r, 0.0) for r in cap[::-1][1:]]
+    profile = np.array(profile)
+    t = 2 * np.pi * np.arange(n_around) / n_around
+    rings = [np.c_[r * np.cos(t), r * np.sin(t), np.full(n_around, z)] for r, z in profile]
+    V = np.concatenate([[[0.0, 0.0, height]], *rings, [[0.0, 0.0, 0.0]]])
+    cur = np.arange(n_around)
+    nxt = (cur + 1) % n_around
+
+    def ring(i):
+        return 1 + i * n_around
+
+    F = [np.c_[np.zeros(n_around, np.int64), ring(0) + cur, ring(0) + nxt]]
+    island = [np.zeros(n_around, np.int64)]
+    for i in range(len(profile) - 1):
+        a, b, c, d = ring(i) + cur, ring(i) + nxt, ring(i + 1) + nxt, ring(i + 1) + cur
+        F += [np.c_[a, d, c], np.c_[a, c, b]]
+        island += [np.full(2 * n_around, int(i >= foot))]
+    last = ring(len(profile) - 1)
+    F.append(np.c_[np.full(n_around, len(V) - 1), last + nxt, last + cur])
+    island.append(np.ones(n_around, np.int64))
+    F, island = np.concatenate(F), np.concatenate(island)
+    P = V[F]
+    planar = P[..., :2] * 0.2 + 0.3
+    u = np.arctan2(P[..., 1], P[..., 0])
+    u = np.where(u.max(axis=1, keepdims=True) - u > np.pi, u + 2 * np.pi, u)  # one side of the wrap
+    cylindrical = np.stack([u, P[..., 2]], axis=-1) + 5.0
+    return V, F, np.where(island[:, None, None] == 0, planar, cylindrical)
