@@ -26,9 +26,10 @@ class Candidates:
     off), the raw order gives 0.95x Decimate's Hausdorff distance where the per-area order
     gives 1.57x.
 
-    A seam pair's cost is at least the squared distance its collapse sweeps
-    (swept_distance): its merged vertex is held on the segment between its ends, where on a
-    curved surface it cuts a chord the quadric, averaged over the pair's area, underrates."""
+    With the per-area ranking a seam pair's cost is at least the squared distance its
+    collapse sweeps (swept_distance): its merged vertex is held on the segment between its
+    ends, where on a curved surface it cuts a chord the quadric, averaged over the pair's
+    area, underrates. (The raw error of w = 0 stays the paper's plain Garland-Heckbert.)"""
 
     edge: np.ndarray
     keep: np.ndarray

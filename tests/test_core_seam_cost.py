@@ -15,8 +15,8 @@ from surface_distance import distance_to_mesh
 
 def _fan(ends_z=0.0):
     """Two vertices, 0 (keep, x = -0.5) and 1 (remove, x = +0.5), at height ``ends_z``,
-    in a ring of eight at height 0: a closed fan of 10 triangles, two of them (with ring
-    vertices 2 and 6) on the edge 0-1."""
+    in a ring of eight (vertices 2-9) at height 0: a closed fan of 10 triangles, two of
+    them (with vertices 4 and 8) on the edge 0-1."""
     angle = np.arange(8) * np.pi / 4
     ring = np.c_[1.5 * np.cos(angle), np.sin(angle), np.zeros(8)]
     V = np.concatenate([[[-0.5, 0.0, ends_z], [0.5, 0.0, ends_z]], ring])
