@@ -34,6 +34,7 @@ from addon import lod
 from addon.pure import measure
 from addon.pure.measure import mesh_report
 from addon.pure.settings import LodSettings
+from blender_reference import mesh_arrays
 from run import environment
 from tables import header, row
 
@@ -134,16 +135,10 @@ def build(name):
 def triangles(ob):
     """(vertices, faces) of the object's evaluated mesh (its own space)."""
     ev = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    me = ev.to_mesh()
     try:
-        me.calc_loop_triangles()
-        co = np.empty(len(me.vertices) * 3)
-        me.vertices.foreach_get("co", co)
-        tri = np.empty(len(me.loop_triangles) * 3, np.int64)
-        me.loop_triangles.foreach_get("vertices", tri)
+        return mesh_arrays(ev.to_mesh())[:2]
     finally:
         ev.to_mesh_clear()
-    return co.reshape(-1, 3), tri.reshape(-1, 3)
 
 
 def decimated(ob, ratio):
