@@ -32,7 +32,6 @@ import core
 import equal_error
 from addon import lod
 from addon.pure import measure
-from addon.pure.measure import mesh_report
 from addon.pure.settings import LodSettings
 from blender_reference import mesh_arrays
 from run import environment
@@ -182,7 +181,7 @@ def equal_error_rows(name, percents) -> list:
         if found is None:
             out.append(row(name, f"{len(F):,}", f"{percent:g}", "none", f"{n:,}", "-", "-", "-"))
             continue
-        h = mesh_report(V, F, found[1], found[2], n_samples=200_000, seed=equal_error.CHECK_SEED)["hausdorff_percent"]
+        h = measure.mesh_report(V, F, found[1], found[2], n_samples=200_000, seed=equal_error.CHECK_SEED)["hausdorff_percent"]
         out.append(row(name, f"{len(F):,}", f"{percent:g}", f"{found[0]:,}", f"{n:,}", f"**{found[0] / n:.2f}x**",
                        f"{h:.4f}" + (" (beyond)" if h > percent else ""),
                        f"{core.quality_summary(found[1], found[2])['sliver_percent']:.1f} / "

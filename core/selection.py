@@ -86,9 +86,10 @@ def candidates(s, conn, kind, pass_no) -> Candidates:
         cached = at >= 0
         at = np.where(cached, at, 0)
         reuse = cached & (ckeep[at] == keep) & ~s.changed[keep] & ~s.changed[remove]
-        # A seam pair's swept distance also reads its neighbours: not reused once one moved.
-        on_seam = kinds.PLACE[k_remove, k_keep] == kinds.ON_SEAM
-        reuse &= ~(on_seam & (np.maximum(s.touched[keep], s.touched[remove]) >= s.cache.pass_no))
+        if s.cost_per_area:
+            # A seam pair's swept distance also reads its neighbours: not reused once one moved.
+            on_seam = kinds.PLACE[k_remove, k_keep] == kinds.ON_SEAM
+            reuse &= ~(on_seam & (np.maximum(s.touched[keep], s.touched[remove]) >= s.cache.pass_no))
         # Gather every row and overwrite the fresh minority: cheaper than masked copies.
         position = rows(cpos, at)
         cost = ccost[at]
