@@ -206,6 +206,7 @@ class State:
     passed_screen: object = None  # (k,) per edge: pass in which it last passed the screening, 0 never
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
+    line_part: object = None  # (n, 10) column-major: the line quadrics' share of Q, or None (w = 0)
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
     bound: object = None  # DistanceBound, when max_error or painted limits bound the distance
@@ -225,9 +226,10 @@ def run(p: Problem) -> list:
     face_normals, face_areas = face_frames(p.vertices, F)
     feature_edges, feature_weights, corners = _features(p, conn, face_normals, face_areas)
     heartbeat.beat()
-    Q, area = vertex_quadrics.build(
+    Q, area, line_part = vertex_quadrics.build(
         p.vertices, F, conn, p.line_weights, p.quadric_scale, p.options.boundary_weight,
         feature_edges, feature_weights, p.options.probabilistic_sigma, p.options.line_scale_exponent,
+        line_part=True,
     )
     heartbeat.beat()
     # Vertices on non-manifold edges, or pinched (several fans), are left alone.
@@ -269,6 +271,11 @@ def run(p: Problem) -> list:
                                   everywhere=p.max_error is not None)
         s.bound = DistanceBound(tracker, np.inf if p.max_error is None else p.max_error[0],
                                 np.zeros(len(conn.edges), dtype=np.int8), limited)
+    if s.bound is not None and line_part is not None:
+        # Placement at an exact end (core.selection.exact_end) reads the quadric without
+        # its line quadrics: under a distance bound only.
+        s.line_part = np.asfortranarray(line_part)
+    del line_part
     if p.options.remove_small_components and (s.bound is None or not s.bound.global_bound):
         s.drop_at = components.smaller_than(s.F, s.V, _kept_parts(s), 0.0, 0)[2]
     if p.options.shape_attributes or p.pose_attributes:
@@ -872,6 +879,8 @@ def _apply(s: State, conn, cand, chosen, pass_no):
     s.moved[keep] |= np.any(pos != s.V[keep], axis=1)
     s.V[keep] = pos
     quadrics.merge_rows(s.Q, keep, remove)
+    if s.line_part is not None:
+        quadrics.merge_rows(s.line_part, keep, remove)
     if s.keys is not None:
         s.keys.quadrics[:, keep] += s.keys.quadrics[:, remove]
     s.area[keep] += s.area[remove]

@@ -43,7 +43,9 @@ CAN_COLLAPSE = np.array([
     [NEVER, NEVER, NEVER,      NEVER,      NEVER],       # LOCKED: never moves
 ], dtype=np.int8)
 
-# PLACE[remove kind, keep kind]: where the merged vertex goes.
+# PLACE[remove kind, keep kind]: where the merged vertex goes. OPTIMAL is the quadric's
+# optimum; under a distance bound, an end of the edge instead where that end keeps every
+# plane of the pair's faces and the optimum does not (core.selection.exact_end).
 OPTIMAL, AT_KEEP, ON_SEAM = 0, 1, 2
 PLACE = np.array([
     # into: FREE     BORDER   SEAM     COMPLEX  LOCKED

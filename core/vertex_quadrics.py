@@ -34,8 +34,10 @@ def build(
     feature_edge_weights,
     probabilistic_sigma: float = 0.0,
     line_scale_exponent: float = 1.0,
+    line_part: bool = False,
 ) -> tuple:
-    """Returns (Q (n, 10), vertex areas (n,)) for the input mesh.
+    """Returns (Q (n, 10), vertex areas (n,)) for the input mesh; with ``line_part`` also
+    the line quadrics' share of Q (n, 10), scaled as Q is, or None where there is none.
 
     line_weights: (n,) w_i of Eq. 16; quadric_scale: (n,) >= 1 or None (Sec. 4.4.1), which
     multiplies the planes and multiplies the line quadric by quadric_scale **
@@ -61,8 +63,10 @@ def build(
     line_w = np.where(has_normal, w * vertex_area, 0.0)
     if quadric_scale is not None and line_scale_exponent != 1.0:
         line_w = line_w * quadric_scale ** (line_scale_exponent - 1.0)  # q *= quadric_scale below
+    lines = None
     if np.any(line_w > 0):
-        q += quadrics.line_quadrics(vertex_normal, vertices, line_w)
+        lines = quadrics.line_quadrics(vertex_normal, vertices, line_w)
+        q += lines
 
     if probabilistic_sigma > 0:
         # With isotropic normal noise sigma, a plane through p costs its squared distance
@@ -77,7 +81,9 @@ def build(
 
     if quadric_scale is not None:
         q *= quadric_scale[:, None]
-    return q, vertex_area
+        if lines is not None:
+            lines *= quadric_scale[:, None]
+    return (q, vertex_area, lines) if line_part else (q, vertex_area)
 
 
 def _boundary_quadrics(vertices, face_normals, conn, weight, n):

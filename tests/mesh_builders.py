@@ -89,14 +89,17 @@ def uv_sphere(n_lon: int = 16, n_lat: int = 10, radius: float = 1.0, pole_uv: st
     return v, np.concatenate(faces).astype(np.int64), np.concatenate(uvs)
 
 
-def cube(k: int = 4, split: bool = False, half: float = 1.0):
+def cube(k: int = 4, split: bool = False, half: float = 1.0, ticks=None):
     """A cube [-half, half]^3, each side a k x k grid of quads with its own UV island.
 
     Returns (V, F, UV). split=False: one vertex per position, the islands' borders are
     seams in the corner UVs. split=True: every side has its own vertices (as exported
-    game assets arrive), coincident along the cube's edges, same UVs.
+    game assets arrive), coincident along the cube's edges, same UVs. ``ticks``: the
+    grid's coordinates along each axis (increasing, from -half to half) instead of k
+    even steps.
     """
-    t = np.linspace(-half, half, k + 1)
+    t = np.linspace(-half, half, k + 1) if ticks is None else np.asarray(ticks, dtype=np.float64)
+    k = len(t) - 1
     # (normal axis, sign, u axis, v axis) with u x v = outward normal.
     sides = [(0, 1, 1, 2), (0, -1, 2, 1), (1, 1, 2, 0), (1, -1, 0, 2), (2, 1, 0, 1), (2, -1, 1, 0)]
     s_idx, r_idx = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="xy")
@@ -122,6 +125,24 @@ def cube(k: int = 4, split: bool = False, half: float = 1.0):
     if not split:
         V, F = weld_exact(V, F)
     return V, F, UV
+
+
+def bevelled_box(flat: int = 2, segments: int = 4, bevel: float = 0.15):
+    """A cube [-1, 1]^3 with every edge bevelled round, as Blender's Bevel modifier and a
+    simple subdivision make a prop: each side's flat part a ``flat`` x ``flat`` grid,
+    each bevel ``segments`` rows of a quarter circle of radius ``bevel``, spherical
+    corners. Returns (V, F)."""
+    inner = 1.0 - bevel
+    ticks = np.concatenate([np.linspace(-1.0, -inner, segments + 1), np.linspace(-inner, inner, flat + 1)[1:-1],
+                            np.linspace(inner, 1.0, segments + 1)])
+    V, F, _ = cube(ticks=ticks)
+    # Each grid point goes onto the rounded box: the nearest point of the inner box plus
+    # ``bevel`` along the way out (a quarter circle's rows at even angles, not even steps).
+    core_point = np.clip(V, -inner, inner)
+    out = V - core_point
+    length = np.linalg.norm(out, axis=1, keepdims=True)
+    V = core_point + bevel * out / np.maximum(length, 1e-300)
+    return V, F
 
 
 def weld_exact(V, F, return_map=False):
