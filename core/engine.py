@@ -206,7 +206,7 @@ class State:
     passed_screen: object = None  # (k,) per edge: pass in which it last passed the screening, 0 never
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
-    line_part: object = None  # (n, 10) column-major: the line quadrics' share of Q, or None (w = 0)
+    line_part: object = None  # (n, 10) column-major: the line quadrics' share of Q under a bound, else None
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
     bound: object = None  # DistanceBound, when max_error or painted limits bound the distance

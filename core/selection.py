@@ -117,8 +117,8 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     place = kinds.PLACE[k_remove, k_keep]
     fixed = place == kinds.AT_KEEP
     position[fixed] = v_keep[fixed]
-    if s.line_part is not None:
-        free = np.flatnonzero(place == kinds.OPTIMAL)
+    free = exact_end_rows(s, place, keep, remove)
+    if len(free):
         geometric = q[free] - quadrics.pair_sums(s.line_part, keep[free], remove[free])
         position[free] = exact_end(geometric, s.area[keep[free]] + s.area[remove[free]],
                                    v_keep[free], v_remove[free], position[free])
@@ -153,12 +153,27 @@ def _optimal(s, keep, remove, k_keep, k_remove):
 EXACT_END = 1e-3
 
 
+def exact_end_rows(s, place, keep, remove) -> np.ndarray:
+    """Indices of the rows (pairs ``keep``, ``remove`` placed by ``place``, core.kinds)
+    whose merged vertex may go to an exact end: those placed at the optimum where a
+    distance bound holds, everywhere under max_error, only at painted limits' vertices
+    under limits alone (elsewhere a count target ranks, and count targets keep the
+    optimum: docs/method.md)."""
+    if s.line_part is None:
+        return np.zeros(0, dtype=np.int64)
+    rows_ = place == kinds.OPTIMAL
+    if not s.bound.global_bound:
+        rows_ &= s.bound.limited[keep] | s.bound.limited[remove]
+    return np.flatnonzero(rows_)
+
+
 def exact_end(geometric, area, v_keep, v_remove, position) -> np.ndarray:
     """(k, 3) ``position``, or an end of the edge where that end lies on every plane of
     the pair's faces and ``position`` does not.
 
     geometric: (k, 10) the pair's quadric without its line quadrics (planes of faces,
-    boundaries, feature edges); area: (k,) the area it stands for; v_keep, v_remove,
+    boundaries, feature edges; the probabilistic planes' term when it is on, which no
+    end is exact for); area: (k,) the area it stands for; v_keep, v_remove,
     position: (k, 3). Why: the line quadric pulls a merged vertex towards both ends'
     normal lines. Where one end is on a crease the other lies on (a flat side's vertex
     next to a bevel's foot, a foot vertex next to its corner) the merge is exact at that

@@ -79,3 +79,22 @@ def test_count_targets_do_not_read_it(target, monkeypatch):
     plain = core.simplify(V, F, target_faces=target)
     np.testing.assert_array_equal(r.faces, plain.faces)
     np.testing.assert_array_equal(r.vertices, plain.vertices)
+
+
+def test_the_rows_that_may_go_to_an_end():
+    """Rows placed at the optimum where a bound holds: all of them under max_error, only
+    those with an end under a painted limit under limits alone, none without a bound."""
+    from types import SimpleNamespace
+
+    from core import kinds
+
+    place = np.array([kinds.OPTIMAL, kinds.OPTIMAL, kinds.AT_KEEP, kinds.OPTIMAL, kinds.ON_SEAM])
+    keep, remove = np.array([0, 1, 2, 3, 4]), np.array([5, 6, 7, 8, 9])
+    limited = np.zeros(10, dtype=bool)
+    limited[[1, 8]] = True  # rows 1 (its keep) and 3 (its remove)
+    everywhere = SimpleNamespace(line_part=object(), bound=SimpleNamespace(global_bound=True, limited=limited))
+    np.testing.assert_array_equal(selection.exact_end_rows(everywhere, place, keep, remove), [0, 1, 3])
+    painted = SimpleNamespace(line_part=object(), bound=SimpleNamespace(global_bound=False, limited=limited))
+    np.testing.assert_array_equal(selection.exact_end_rows(painted, place, keep, remove), [1, 3])
+    unbounded = SimpleNamespace(line_part=None, bound=None)
+    assert len(selection.exact_end_rows(unbounded, place, keep, remove)) == 0
