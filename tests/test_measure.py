@@ -336,6 +336,22 @@ def test_the_climb_finds_a_largest_distance_no_vertex_has(brute_trees, monkeypat
     assert climbed > 0.97 * exact and uniform < 0.9 * exact, (uniform, climbed, exact)
 
 
+def test_climb_seeds_set_how_many_points_the_climb_starts_from(brute_trees):
+    """The deviation search's measurement climbs from more seeds than the report's
+    (deviation_search.SEARCH_CLIMB_SEEDS): ``climb_seeds`` of the area samples a
+    direction, each CLIMB_ROUNDS rounds of CLIMB_TRIES points; the report's one seed
+    per CLIMB_POINTS_PER_SEED points gives the pit below one."""
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float), np.array([[0, 1, 2], [0, 2, 3]])
+    pit = (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, -0.5]], float),
+           np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]))
+    exact = 0.5 * 0.5 / np.hypot(0.5, 0.5)
+    per_seed = measure.CLIMB_TRIES * measure.CLIMB_ROUNDS
+    for seeds, expected in ((None, 1), (10, 10)):
+        m = measure.surface_deviation(*square, *pit, n_samples=50, keep_samples=True, climb_seeds=seeds)
+        assert len(m["sampled"].src_climbed_distance) == expected * per_seed  # (the square's corners are at 0)
+        assert m["hausdorff_src_to_dst"] <= exact + 1e-9
+
+
 def test_samples_carry_their_triangle_and_barycentric_coordinates():
     v, f = grid(4, jitter=0.2)
     points, tri, bary = measure._sample_surface(v, f, 1000, np.random.default_rng(5))

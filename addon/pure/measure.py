@@ -440,7 +440,8 @@ def _queried_vertices(f: np.ndarray, limit: Optional[int]) -> np.ndarray:
     return used
 
 
-def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None, vertex_limit=None) -> tuple:
+def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None, vertex_limit=None,
+                   climb_seeds=None) -> tuple:
     """(Hausdorff, mean, query points, normal angles or None) from surface a to the tree of
     surface b; with ``shading`` = (a's corner normals, b's vertices, faces and corner
     normals) also the normal angles at a's area samples. ``keep``: None, or (b's vertices
@@ -449,7 +450,9 @@ def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None,
     _Coincident of a and b: points on a triangle b has too, and vertices at a position b's
     triangles use, are at distance 0 on it without a search (a LOD keeps its source's
     untouched triangles exactly: a third of the engine's large parts' at LOD1).
-    ``vertex_limit``: query at most that many of a's vertices (_queried_vertices)."""
+    ``vertex_limit``: query at most that many of a's vertices (_queried_vertices);
+    ``climb_seeds``: _climb's seeds of each kind (None: the report's, one per
+    CLIMB_POINTS_PER_SEED points, at most CLIMB_SEEDS)."""
     samples, tri, bary, rng_a = _sampled(v_a, f_a, n_a, seed)
     used = _queried_vertices(f_a, vertex_limit)
     verts = v_a[used]
@@ -475,7 +478,8 @@ def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None,
                        vertex_nearest_bary=_Deferred(_closest_bary, verts, vertex_nearest, *keep[0], vertex_at))
     if keep is not None:
         keep[1].update(vertices=used, vertex_distance=d_verts)
-    d_climbed, climbed, climbed_at = _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng_a)
+    d_climbed, climbed, climbed_at = _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng_a,
+                                            climb_seeds)
     if keep is not None:
         keep[1].update(climbed_triangle=climbed, climbed_bary=climbed_at, climbed_distance=d_climbed)
     hausdorff = float(max(d_samples.max(initial=0.0), d_verts.max(initial=0.0), d_climbed.max(initial=0.0)))
@@ -484,7 +488,7 @@ def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None,
     return hausdorff, mean, len(samples) + len(verts), angles
 
 
-def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
+def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng, seeds=None) -> tuple:
     """(distances (c,), triangles (c,), barycentric coordinates (c, 3)) of the points tried
     climbing from the farthest of a's area samples (on triangles ``tri`` at ``bary``, distances ``d_samples``) and of
     its vertices ``used`` (distances ``d_verts``; from each, on every triangle around it)
@@ -492,7 +496,7 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng) -> tuple:
     points around each seed's best point so far (see CLIMB_SEEDS). Seeds at distance 0
     (a's surface on b's) are not climbed from."""
     points = len(d_samples) + len(d_verts)
-    count = min(CLIMB_SEEDS, -(-points // CLIMB_POINTS_PER_SEED))
+    count = min(CLIMB_SEEDS, -(-points // CLIMB_POINTS_PER_SEED)) if seeds is None else int(seeds)
     seed_tri, seed_bary = [], []
     if count and len(d_samples):
         top = _largest(d_samples, count)
@@ -691,7 +695,7 @@ def _normal_keys(angles: np.ndarray) -> dict:
 
 def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
                       samples_per_unit_area=None, n_samples=None, seed=0, normals=None,
-                      keep_samples=False, vertex_limit=None) -> dict:
+                      keep_samples=False, vertex_limit=None, climb_seeds=None) -> dict:
     """Two-sided Hausdorff and mean surface distance between two triangle meshes.
 
     src_*: the input (reference) mesh, whose bounding-box diagonal the percentages use;
@@ -699,7 +703,9 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     Sampling density per surface: ``n_samples`` points (or a pair: src's, dst's), or
     ``samples_per_unit_area`` points per unit of its area, or by default DEFAULT_SAMPLES;
     vertices are always added (at most ``vertex_limit`` of them a surface, spread over
-    it, when given: a measurement repeated over many poses).
+    it, when given: a measurement repeated over many poses). ``climb_seeds``: seeds of
+    the climb towards the largest distance (_climb) of each kind, area samples and
+    vertices, a direction; None: the report's (CLIMB_SEEDS, fewer on small surfaces).
     normals: optional (src corner normals, dst corner normals), each (m, 3, 3) per
     triangle corner of its mesh: also the shading-normal deviation (normal_deviation's
     keys), from the closest points the src->dst distances found (no queries of its own).
@@ -729,11 +735,11 @@ def surface_deviation(src_vertices, src_faces, dst_vertices, dst_faces, *,
     src_on_dst = _coincident(vs, vd, fd)
     h_sd, m_sd, k_src, angles = _one_direction(vs, fs, seed, n_src, _build_tree(vd, fd),
                                                shading, kept and ((vd, fd), kept[0]), b=src_on_dst,
-                                               vertex_limit=vertex_limit)
+                                               vertex_limit=vertex_limit, climb_seeds=climb_seeds)
     t1 = time.perf_counter()
     h_ds, m_ds, k_dst, _ = _one_direction(vd, fd, seed, n_dst, _build_tree(vs, fs),
                                           keep=kept and ((vs, fs), kept[1]), b=_coincident_back(src_on_dst, fs),
-                                          vertex_limit=vertex_limit)
+                                          vertex_limit=vertex_limit, climb_seeds=climb_seeds)
     t2 = time.perf_counter()
 
     diagonal = _bbox_diagonal(vs, fs)
