@@ -338,8 +338,11 @@ class LodJob:
         for lod_input, (chain, measured) in zip(self.inputs, found):
             for k in range(len(chain)):
                 before = chain[k - 1] if k else None
-                if before is not None and _unchanged(before, chain[k]):
-                    chain[k] = before  # (one mesh, measured once: lod.compute repeats it)
+                if before is not None and (len(before.faces) <= len(chain[k].faces) or _unchanged(before, chain[k])):
+                    # No coarser than the level before, which is within a smaller bound (the
+                    # asset's levels may come from different runs: deviation_targets): that
+                    # one mesh, measured once (lod.compute repeats it).
+                    chain[k] = before
                 if chain[k] is before or (k == 0 and len(chain[0].faces) == len(lod_input.data.faces)):
                     lod_input.warnings.append(deviation_search.repeat_note(k + 1, lod_input.deviations[k]))
             lod_input.chain = chain

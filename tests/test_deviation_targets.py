@@ -86,7 +86,7 @@ def _fake_core(overshoot):
     times b (the sampled distance above the tracked bound); records the bounds run."""
     runs = []
 
-    def run(bounds):
+    def run(bounds, requested):
         runs.append(list(bounds))
         levels = [_FakeLevel(int(1000 / b)) for b in bounds]
         for level, b in zip(levels, bounds):
@@ -107,8 +107,13 @@ def test_tracked_bounds_end_within_and_close(overshoot):
     counts = [len(f.level.faces) for f in found]
     assert counts[0] > counts[1] > counts[2]
     assert len(runs) <= dt.TRACKED_RUNS
-    if dt.TRACKED_CLOSE <= overshoot * dt.TRACKED_SHARE <= 1.0:
+    assert len(runs[0]) == 6, "the first run stops twice a level: at its share and stretched"
+    if overshoot * dt.STRETCH_SHARE <= dt.STRETCH_WITHIN:
+        assert len(runs) == 1, "the stretched levels are within: no second run"
+        assert [f.hausdorff for f in found] == pytest.approx([overshoot * dt.STRETCH_SHARE * f.deviation for f in found])
+    elif dt.TRACKED_CLOSE <= overshoot * dt.TRACKED_SHARE <= 1.0:
         assert len(runs) == 1, "within and close on the first run: no second"
+        assert [f.hausdorff for f in found] == pytest.approx([overshoot * dt.TRACKED_SHARE * f.deviation for f in found])
     elif overshoot * dt.TRACKED_SHARE > 1.0:
         assert runs[1][0] < runs[0][0], "the bound shrinks where the level came out beyond"
     else:
@@ -122,28 +127,28 @@ def test_a_run_again_stops_at_the_last_level_that_needs_it():
     a first level run again)."""
     runs = []
 
-    def run(bounds):
+    def run(bounds, requested):
         runs.append(list(bounds))
         levels = [_FakeLevel(int(1000 / b)) for b in bounds]
-        for i, (level, b) in enumerate(zip(levels, bounds)):
-            level.measured = (1.8 if i == 0 else 1.0) * b
+        for level, b in zip(levels, bounds):
+            level.measured = (1.8 if b < 1.0 else 1.0) * b  # the first level's bounds overshoot
         return levels
 
     found = dt.by_tracked_bounds([1.0, 2.0, 4.0], run, lambda level: level.measured)
     assert len(runs) >= 2 and all(len(r) == 1 for r in runs[1:]), runs
     assert all(f.level is not None and f.hausdorff <= f.deviation for f in found), found
-    assert [f.hausdorff for f in found[1:]] == [dt.TRACKED_SHARE * 2.0, dt.TRACKED_SHARE * 4.0]
+    assert [f.hausdorff for f in found[1:]] == [dt.STRETCH_SHARE * 2.0, dt.STRETCH_SHARE * 4.0]
 
 
 def test_a_bound_that_allows_no_collapse_is_no_lod_and_is_loosened():
     runs = []
 
-    def run(bounds):
+    def run(bounds, requested):
         runs.append(list(bounds))
         return [_FakeLevel(100, collapses=0) if b < 1.0 else _FakeLevel(80) for b in bounds]
 
     found = dt.by_tracked_bounds([1.0], run, lambda level: 0.95)
-    assert runs[0] == [dt.TRACKED_SHARE] and runs[1] == [1.0]
+    assert runs[0] == [dt.TRACKED_SHARE, dt.STRETCH_SHARE] and runs[1] == [1.0]
     assert len(found[0].level.faces) == 80
 
 
@@ -155,7 +160,7 @@ def test_tracked_bounds_leave_out_what_never_comes_within():
 
 def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
     """Two bounds that give the same level (a topology limit): the second is left out."""
-    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
+    found = dt.by_tracked_bounds([1.0, 2.0], lambda bounds, requested: [_FakeLevel(50) for _ in bounds], lambda level: 0.0)
     assert found[0].level is not None and found[1].level is None
 
 

@@ -39,6 +39,14 @@ DEVIATION_SAMPLES_MIN = 4_000
 # vertices are; the LOD's large triangles are where its own samples are needed. A quarter
 # of the samples on the source's side moved the Hausdorff distance by 0.5 % on average.
 SOURCE_SHARE = 0.5
+# A level the deviation search keeps is measured with this many climb seeds of each kind
+# a direction (measure._climb; the report's are one per 1,500 points, at most 16): the
+# search keeps levels close to their bound (deviation_targets.STRETCH_SHARE), and a peak
+# between samples is what takes one beyond. On 14 LODs of the shared meshes at 0.05-1 %,
+# 5 seeds each, against two million-sample measurements: the report's climb came out at
+# 0.62-1.00 of them (0.94 on average, 40 of 70 under 0.95), 256 seeds at 0.90-1.00 (0.98,
+# 10 of 70), in about twice the time (session 33, docs/method.md).
+SEARCH_CLIMB_SEEDS = 256
 
 
 # A part of an asset is sampled as much as its share of the asset's area would be if the
@@ -72,15 +80,17 @@ def part_samples(area_share: float, asset_triangles: int, part_triangles: int) -
     return int(max(floor, np.ceil(report_samples(asset_triangles) * area_share)))
 
 
-def deviation_report(data, level, normals=None, part_samples: Optional[int] = None) -> dict:
+def deviation_report(data, level, normals=None, part_samples: Optional[int] = None,
+                     climb_seeds: Optional[int] = None) -> dict:
     """measure.mesh_report of ``level`` against the source, as the report measures it
     (``normals``: (source's, level's) corner normals, for the shading deviation too), with
     its points kept (``sampled``: the report's breakdown per material and region and the
-    heat map use them, addon/pure/level_deviation.py)."""
+    heat map use them, addon/pure/level_deviation.py); ``climb_seeds``: measure.
+    surface_deviation's (None: the report's)."""
     return measure.mesh_report(data.vertices, data.faces, level.vertices, level.faces,
                                n_samples=(int(SOURCE_SHARE * report_samples(len(data.faces), part_samples)),
                                           report_samples(len(level.faces), part_samples)),
-                               normals=normals, keep_samples=True)
+                               normals=normals, keep_samples=True, climb_seeds=climb_seeds)
 
 
 def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_with_progress) -> tuple:
@@ -100,20 +110,25 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
 
     def exact(level):
         report_progress(simplify_share)
-        measured[id(level)] = deviation_report(data, level)
+        measured[id(level)] = deviation_report(data, level, climb_seeds=SEARCH_CLIMB_SEEDS)
         return measured[id(level)]["hausdorff"]
 
     per_level = _level_limits(lod_input)
+
+    def rows(requested):  # the per-level settings of the levels a run makes
+        return {key: value[requested] for key, value in per_level.items()}
+
     found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **per_level), exact)
+        lod_input.deviations,
+        lambda bounds, requested: simplify([0] * len(bounds), max_error=bounds, **rows(requested)), exact)
     options = lod_input.core_options
     if options.line_weights is None and options.pose_offsets is None:
         # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
         lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
                 "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
         found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            lod_input.deviations, lambda bounds: simplify([0] * len(bounds), max_error=bounds, **lean,
-                                                          **per_level), exact))
+            lod_input.deviations,
+            lambda bounds, requested: simplify([0] * len(bounds), max_error=bounds, **lean, **rows(requested)), exact))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -227,7 +242,7 @@ def _measurers(data, levels: list, tick) -> tuple:
 
     def exact(i):
         tick()
-        reports[i] = deviation_report(data, levels[i])
+        reports[i] = deviation_report(data, levels[i], climb_seeds=SEARCH_CLIMB_SEEDS)
         return reports[i]["hausdorff"]
 
     return quick, exact, reports
@@ -252,7 +267,7 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
     vertices, faces, options, layout = assembly.combine(parts)
     splits, measured = {}, {}
 
-    def run(bounds, **more):
+    def run(bounds, requested, **more):
         if cancelled():
             raise core.SimplifyCancelled("cancelled")
         return core.simplify_chain(vertices, faces, [0] * len(bounds),
@@ -267,7 +282,8 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
         for part, lod_input, scale in zip(split, inputs, scales):
             if part is None:
                 continue
-            report = deviation_report(lod_input.data, part, part_samples=lod_input.part_samples)
+            report = deviation_report(lod_input.data, part, part_samples=lod_input.part_samples,
+                                      climb_seeds=SEARCH_CLIMB_SEEDS)
             measured[id(part)] = report
             worst = max(worst, report["hausdorff"] * scale)
         return worst
@@ -277,7 +293,7 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
         lean = {"line_weights": options.line_weights * deviation_targets.LEAN_LINE_WEIGHT,
                 "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
         found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            deviations, lambda bounds: run(bounds, **lean), exact))
+            deviations, lambda bounds, requested: run(bounds, requested, **lean), exact))
     # A level no run met repeats the one before, the whole asset at LOD1, as a part of
     # an asset does in its own search (by_deviation): every part is in every level.
     previous = None
