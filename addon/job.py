@@ -338,7 +338,7 @@ class LodJob:
         for lod_input, (chain, measured) in zip(self.inputs, found):
             for k in range(len(chain)):
                 before = chain[k - 1] if k else None
-                if before is not None and (len(before.faces) <= len(chain[k].faces) or _unchanged(before, chain[k])):
+                if before is not None and len(before.faces) <= len(chain[k].faces):
                     # No coarser than the level before, which is within a smaller bound (the
                     # asset's levels may come from different runs: deviation_targets): that
                     # one mesh, measured once (lod.compute repeats it).
