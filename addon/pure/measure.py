@@ -493,8 +493,9 @@ def _climb(v_a, f_a, tri, bary, d_samples, used, d_verts, tree_b, rng, seeds=Non
     climbing from the farthest of a's area samples (on triangles ``tri`` at ``bary``, distances ``d_samples``) and of
     its vertices ``used`` (distances ``d_verts``; from each, on every triangle around it)
     towards the largest distance to b's tree: CLIMB_ROUNDS rounds of CLIMB_TRIES random
-    points around each seed's best point so far (see CLIMB_SEEDS). Seeds at distance 0
-    (a's surface on b's) are not climbed from."""
+    points around each seed's best point so far (see CLIMB_SEEDS). ``seeds``: how many of
+    each kind (None: one per CLIMB_POINTS_PER_SEED points, at most CLIMB_SEEDS). Seeds at
+    distance 0 (a's surface on b's) are not climbed from."""
     points = len(d_samples) + len(d_verts)
     count = min(CLIMB_SEEDS, -(-points // CLIMB_POINTS_PER_SEED)) if seeds is None else int(seeds)
     seed_tri, seed_bary = [], []
