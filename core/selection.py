@@ -113,6 +113,7 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     """Position and quadric error of collapsing each remove into its keep."""
     q = quadrics.pair_sums(s.Q, keep, remove)
     v_keep, v_remove = s.V[keep], s.V[remove]
+    pair_area = s.area[keep] + s.area[remove]  # what the pair's quadric stands for
     position = quadrics.minimize(q, 0.5 * (v_keep + v_remove), s.area_scale)
     place = kinds.PLACE[k_remove, k_keep]
     fixed = place == kinds.AT_KEEP
@@ -120,8 +121,7 @@ def _optimal(s, keep, remove, k_keep, k_remove):
     free = exact_end_rows(s, place, keep, remove)
     if len(free):
         geometric = q[free] - quadrics.pair_sums(s.line_part, keep[free], remove[free])
-        position[free] = exact_end(geometric, s.area[keep[free]] + s.area[remove[free]],
-                                   v_keep[free], v_remove[free], position[free])
+        position[free] = exact_end(geometric, pair_area[free], v_keep[free], v_remove[free], position[free])
     along_seam = place == kinds.ON_SEAM
     if along_seam.any():
         position[along_seam], _ = quadrics.minimize_on_segment(q[along_seam], v_keep[along_seam], v_remove[along_seam])
@@ -137,8 +137,7 @@ def _optimal(s, keep, remove, k_keep, k_remove):
         error = error + shape_keys.collapse_error(keys.quadrics, keep, remove, position, merged, keys.weights)
     if not s.cost_per_area:
         return position, error
-    area = np.maximum(s.area[keep] + s.area[remove], 1e-300)
-    cost = error / area
+    cost = error / np.maximum(pair_area, 1e-300)
     if along_seam.any():
         on_seam = np.flatnonzero(along_seam)
         swept = swept_distance(s.V, s.F, keep[on_seam], remove[on_seam], position[on_seam])

@@ -200,14 +200,17 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list, list], l
     found = [Found(d, None, float("nan")) for d in deviations]
     levels = len(deviations)  # how many levels the next run makes
     for attempt in range(TRACKED_RUNS):
-        bounds = [share * d for share, d in zip(shares, deviations)][:levels]
-        stretched = [max(b, STRETCH_SHARE * d) for b, d in zip(bounds, deviations)] if attempt == 0 else []
-        asked = list(np.maximum.accumulate([b for pair in zip(bounds, stretched) for b in pair] if stretched else bounds))
-        made = run(asked, [i // 2 for i in range(len(asked))] if stretched else list(range(len(asked))))
-        bounds, far = (asked[0::2], made[1::2]) if stretched else (asked, [None] * len(made))
+        # Each level's bounds in this run: its share, and on the first run also STRETCH_SHARE.
+        per_level = [(share, max(share, STRETCH_SHARE)) if attempt == 0 else (share,) for share in shares[:levels]]
+        step = len(per_level[0])
+        asked = list(np.maximum.accumulate([s * d for level_shares, d in zip(per_level, deviations) for s in level_shares]))
+        made = run(asked, [i for i, level_shares in enumerate(per_level) for _ in level_shares])
+        bounds = asked[::step]
         again = -1  # the last level that runs again
-        for i, level in enumerate(made[0::2] if stretched else made):
-            if _stretch_kept(far[i], level, deviations[i], exact, found, i):
+        for i, level in enumerate(made[::step]):
+            stretched = _stretched_within(made[step * i + 1], level, deviations[i], exact) if step == 2 else None
+            if stretched is not None:
+                found[i] = stretched
                 continue
             if level.stats.collapses == 0:  # the bound allowed no collapse at all
                 if shares[i] < 1.0:
@@ -233,16 +236,14 @@ def by_tracked_bounds(deviations: Sequence[float], run: Callable[[list, list], l
     return coarser_each(found)
 
 
-def _stretch_kept(far, level, deviation: float, exact, found: list, i: int) -> bool:
-    """Whether the first run's stretched level ``far`` (STRETCH_SHARE, or None), coarser
-    than ``level``, measures within STRETCH_WITHIN of ``deviation``: then it is found[i]."""
-    if far is None or far.stats.collapses == 0 or len(far.faces) >= len(level.faces):
-        return False
+def _stretched_within(far, level, deviation: float, exact) -> Optional[Found]:
+    """The first run's stretched level ``far`` (at STRETCH_SHARE) as found for
+    ``deviation`` where it is coarser than ``level`` and measures within STRETCH_WITHIN of
+    the deviation, else None."""
+    if far.stats.collapses == 0 or len(far.faces) >= len(level.faces):
+        return None
     hausdorff = float(exact(far))
-    if hausdorff > STRETCH_WITHIN * deviation:
-        return False
-    found[i] = Found(deviation, far, hausdorff)
-    return True
+    return Found(deviation, far, hausdorff) if hausdorff <= STRETCH_WITHIN * deviation else None
 
 
 def coarser_each(found: list) -> list:
