@@ -42,11 +42,14 @@ SOURCE_SHARE = 0.5
 # A level the deviation search keeps is measured with this many climb seeds of each kind
 # a direction (measure._climb; the report's are one per 1,500 points, at most 16): the
 # search keeps levels close to their bound (deviation_targets.STRETCH_SHARE), and a peak
-# between samples is what takes one beyond. On 14 LODs of the shared meshes at 0.05-1 %,
-# 5 seeds each, against two million-sample measurements: the report's climb came out at
-# 0.62-1.00 of them (0.94 on average, 40 of 70 under 0.95), 256 seeds at 0.90-1.00 (0.98,
-# 10 of 70), in about twice the time (session 33, docs/method.md).
-SEARCH_CLIMB_SEEDS = 256
+# between samples is what takes one beyond. Against one measurement of a million samples
+# and 2,048 seeds, 3 seeds each, on 15 LODs of the shared meshes at 0.05-1 %: 256 seeds
+# came out at 0.85-1.00 of it (homer at 0.05 %: a peak on a LOD triangle a fifth of the
+# median's area, which the report's samples seldom hit and no seed near the largest
+# samples climbs to; the level was kept at 7,226 triangles and measured 0.055 % by
+# bench/equal_error.py), 1,024 at 0.98-1.00, measuring in 1.5-2.8x the time (0.1 -> 0.27
+# s on homer's level), a search in about 1.1x (session 34, docs/method.md).
+SEARCH_CLIMB_SEEDS = 1024
 
 
 # A part of an asset is sampled as much as its share of the asset's area would be if the
