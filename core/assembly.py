@@ -64,7 +64,7 @@ class Layout:
 
 # Options every part must give alike: the run has one of each.
 SHARED = ("line_scale_exponent", "boundary_weight", "seed", "preserve_seams", "weld_distance",
-          "stitch_cracks", "probabilistic_sigma", "feature_angle", "min_quality",
+          "stitch_cracks", "probabilistic_sigma", "feature_angle", "min_quality", "plane_placement",
           "remove_small_components", "pose_weight", "key_scale_exponent")
 # Options that cannot be combined (see the module's docstring).
 NOT_COMBINED = ("max_error", "vertex_max_error", "vertex_part", "part_copies")

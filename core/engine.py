@@ -207,6 +207,7 @@ class State:
     surface_error: float = 0.0  # the largest RMS distance of a collapse to the rest surface's planes (normalised)
     slivers: object = None  # InputSlivers
     line_part: object = None  # (n, 10) column-major: the line quadrics' share of Q under a bound, else None
+    plane_placement: bool = False  # Options.plane_placement (read where line_part is kept)
     cost_per_area: bool = True  # rank by mean squared distance; raw error without line quadrics
     keys: object = None  # KeyOffsets, when shape keys or sample poses are in the error
     bound: object = None  # DistanceBound, when max_error or painted limits bound the distance
@@ -275,6 +276,7 @@ def run(p: Problem) -> list:
         # Placement at an exact end (core.selection.exact_end) reads the quadric without
         # its line quadrics: under a distance bound only.
         s.line_part = np.asfortranarray(line_part)
+        s.plane_placement = p.options.plane_placement
     del line_part
     if p.options.remove_small_components and (s.bound is None or not s.bound.global_bound):
         s.drop_at = components.smaller_than(s.F, s.V, _kept_parts(s), 0.0, 0)[2]

@@ -221,7 +221,7 @@ def checked(vertices, faces, targets, o: Options, progress=None) -> Checked:
         o, feature_angle=feature_angle, seed=int(o.seed), line_scale_exponent=line_scale_exponent,
         boundary_weight=boundary_weight, probabilistic_sigma=probabilistic_sigma, feature_weight=feature_weight,
         min_quality=min_quality, pose_weight=pose_weight, key_scale_exponent=key_scale_exponent,
-        preserve_seams=bool(o.preserve_seams),
+        preserve_seams=bool(o.preserve_seams), plane_placement=bool(o.plane_placement),
         remove_small_components=bool(o.remove_small_components), normalize_attributes=tuple(o.normalize_attributes or ()),
         uv_attributes=tuple(o.uv_attributes or ()), seamless_attributes=tuple(o.seamless_attributes or ()),
         shape_attributes=tuple(o.shape_attributes or ()),

@@ -404,3 +404,30 @@ def filleted_puck(n_around: int = 64, n_cap: int = 4, n_fillet: int = 4, radius:
     u = np.where(u.max(axis=1, keepdims=True) - u > np.pi, u + 2 * np.pi, u)  # one side of the wrap
     cylindrical = np.stack([u, P[..., 2]], axis=-1) + 5.0
     return V, F, np.where(island[:, None, None] == 0, planar, cylindrical)
+
+
+def bevelled_disc(n_around: int = 64, radius: float = 1.0, depth: float = 0.4, bevel: float = 0.05,
+                  segments: int = 4):
+    """A closed disc as Blender's cylinder with its rims bevelled: two flat caps, each an
+    ``n_around``-gon triangulated as a fan from one rim vertex, a quarter-round bevel of
+    radius ``bevel`` in ``segments`` rings at each rim, and the straight wall between.
+    Returns (V, F)."""
+    half = depth / 2
+    quarter = 0.5 * np.pi * np.arange(segments + 1) / segments
+    top = np.c_[radius - bevel + bevel * np.sin(quarter), half - bevel + bevel * np.cos(quarter)]
+    bottom = np.c_[radius - bevel + bevel * np.cos(quarter), -half + bevel - bevel * np.sin(quarter)]
+    profile = np.concatenate([top, bottom])
+    t = 2 * np.pi * np.arange(n_around) / n_around
+    V = np.concatenate([np.c_[r * np.cos(t), r * np.sin(t), np.full(n_around, z)] for r, z in profile])
+    cur = np.arange(n_around)
+    nxt = (cur + 1) % n_around
+    F = []
+    for i in range(len(profile) - 1):
+        a, b = i * n_around + cur, i * n_around + nxt
+        c, d = (i + 1) * n_around + nxt, (i + 1) * n_around + cur
+        F += [np.c_[a, d, c], np.c_[a, c, b]]
+    fan = np.arange(1, n_around - 1)
+    last = (len(profile) - 1) * n_around
+    F.append(np.c_[np.zeros(len(fan), np.int64), fan, fan + 1])
+    F.append(np.c_[np.full(len(fan), last), last + fan + 1, last + fan])
+    return V, np.concatenate(F)
