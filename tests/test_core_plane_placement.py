@@ -65,3 +65,19 @@ def test_count_targets_do_not_read_it(share):
     flagged = core.simplify(V, F, target_faces=int(share * len(F)), plane_placement=True)
     np.testing.assert_array_equal(flagged.faces, plain.faces)
     np.testing.assert_array_equal(flagged.vertices, plain.vertices)
+
+
+def test_the_search_runs_it_after_lean():
+    """deviation_targets.alternatives: core options, lean first (compared first), then the
+    planes' placement with the controls' line weight and sliver floor."""
+    from addon.pure import deviation_targets
+
+    lean, planes = deviation_targets.alternatives({"line_weight": 2e-3}, 0.4)
+    assert lean == {"line_weight": 2e-3 * deviation_targets.LEAN_LINE_WEIGHT,
+                    "min_quality": 0.4 * deviation_targets.LEAN_MIN_QUALITY}
+    assert planes == {"plane_placement": True}
+    for variant in (lean, planes):
+        core.Options.of(**variant)  # every key an option (a typo raises)
+    # An asset's parts in one run carry the line weight per vertex.
+    per_vertex, _ = deviation_targets.alternatives({"line_weights": np.array([1e-3, 2e-3])}, 0.3)
+    np.testing.assert_allclose(per_vertex["line_weights"], np.array([1e-3, 2e-3]) * deviation_targets.LEAN_LINE_WEIGHT)

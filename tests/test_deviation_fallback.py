@@ -12,8 +12,9 @@ def res(blender_user_dir):
 
 
 def test_the_ladder_gives_levels_within_their_bounds_when_the_bound_finds_none(res):
-    # Both tracked searches (the artist's controls and lean) were asked and found nothing.
-    assert res["fallback_calls"] == [2, 2], res
+    # The three tracked searches (the artist's controls, lean and the planes' placement:
+    # deviation_targets.alternatives) were asked and found nothing.
+    assert res["fallback_calls"] == [2, 2, 2], res
     for name in ("tracked", "ladder"):
         levels = res[name]
         assert [level["requested_deviation_percent"] for level in levels] == pytest.approx([0.5, 2.0]), (name, levels)

@@ -24,8 +24,8 @@ Modules (one idea each):
     measure         surface deviation and the LOD report numbers (the closest-point tree
                     is handed in: addon/bvh.py)
     deviation_targets  the search for LODs by deviation, over any measuring function
-    deviation_search   LOD levels by measured deviation: the core's tracked bound, the lean
-                    run, then the ladder of rungs refined between rungs
+    deviation_search   LOD levels by measured deviation: the core's tracked bound (the
+                    controls, lean, the planes' placement), then the ladder of rungs
     skin_fit        LOD skin weights fitted to the rig's sample poses; coarse levels checked
                     against a run without the poses
     key_deviation   each shape key's deviation on a LOD, and the keys' offsets

@@ -3,11 +3,12 @@
 triangles whose measured distance to the source stays within it.
 
 The core's tracked distance bound first (deviation_targets.by_tracked_bounds), with the
-artist's controls and then the lean run (fewer triangles at the same distance); for a
-deviation neither meets, the ladder of rungs (deviation_targets.choose_levels), the
-coarsest rung measured within it refined between rungs (a second run). Every level kept
-is measured as the report measures it (``deviation_report``, at ``report_samples``), so
-its reported number is the one the search compared with the bound.
+artist's controls and then the lean run and the planes' placement (fewer triangles at
+the same distance: deviation_targets.alternatives); for a deviation none meets, the
+ladder of rungs (deviation_targets.choose_levels), the coarsest rung measured within it
+refined between rungs (a second run). Every level kept is measured as the report
+measures it (``deviation_report``, at ``report_samples``), so its reported number is the
+one the search compared with the bound.
 
 compute.py calls in here with the run's phases.LodInput and its ways of running the
 core; this module does not import compute.py (which imports it).
@@ -100,10 +101,11 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     """(the levels kept, each one's requested deviation, their measurements by id).
 
     First the core's tracked distance bound (deviation_targets.by_tracked_bounds), with
-    the artist's controls and lean (the fewer triangles win, deviation_targets.LEAN_*); for
-    a deviation it does not meet, the ladder: per requested deviation the coarsest rung
-    measured within it (deviation_targets.choose_levels), refined between rungs. A
-    deviation neither meets is left out with a warning, and none met is a LodError.
+    the artist's controls, lean and the planes' placement (the fewer triangles win,
+    deviation_targets.alternatives); for a deviation it does not meet, the ladder: per
+    requested deviation the coarsest rung measured within it (deviation_targets.
+    choose_levels), refined between rungs. A deviation neither meets is left out with a
+    warning, and none met is a LodError.
 
     ``simplify(targets, **options)``: the core run on ``lod_input`` (compute.py's, which
     moves the progress bar); ``simplify_with_progress(lod_input, targets, progress)``:
@@ -121,17 +123,19 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     def rows(requested):  # the per-level settings of the levels a run makes
         return {key: value[requested] for key, value in per_level.items()}
 
-    found = deviation_targets.by_tracked_bounds(
-        lod_input.deviations,
-        lambda bounds, requested: simplify([0] * len(bounds), max_error=bounds, **rows(requested)), exact)
+    def tracked(variant):  # by_tracked_bounds with the controls, ``variant`` replacing some
+        return deviation_targets.by_tracked_bounds(
+            lod_input.deviations,
+            lambda bounds, requested: simplify([0] * len(bounds), max_error=bounds, **variant, **rows(requested)),
+            exact)
+
+    found = tracked({})
     options = lod_input.core_options
     if options.line_weights is None and options.pose_offsets is None:
-        # The lean run (deviation_targets.LEAN_*): fewer triangles at the same distance.
-        lean = {"line_weight": options.line_weight * deviation_targets.LEAN_LINE_WEIGHT,
-                "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
-        found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            lod_input.deviations,
-            lambda bounds, requested: simplify([0] * len(bounds), max_error=bounds, **lean, **rows(requested)), exact))
+        # Lean, then the planes' placement (deviation_targets.alternatives): fewer
+        # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING.
+        for variant in deviation_targets.alternatives({"line_weight": options.line_weight}, options.min_quality):
+            found = deviation_targets.fewest_each(found, tracked(variant))
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -254,10 +258,10 @@ def _measurers(data, levels: list, tick) -> tuple:
 def by_deviation_together(inputs: list, scales: list, copies: list, deviations: list, notes: list,
                           progress=None, cancelled=lambda: False) -> Optional[list]:
     """An asset's chain by deviation in one core run over all its parts (core.assembly), as
-    by_deviation does for one mesh: the tracked distance bound, with the controls and lean,
-    each level measured as the report measures it, part by part (its Hausdorff distance in
-    scene units: the largest over the parts). Twenty-nine separate searches took the CAD
-    engine two minutes at --max-error 1% 3%.
+    by_deviation does for one mesh: the tracked distance bound, with the controls, lean and
+    the planes' placement, each level measured as the report measures it, part by part (its
+    Hausdorff distance in scene units: the largest over the parts). Twenty-nine separate
+    searches took the CAD engine two minutes at --max-error 1% 3%.
 
     ``inputs``: the parts' LodInputs (their ``part_samples`` set); ``scales``: each part's
     largest world scale, ``copies``: how many objects draw it; ``deviations``: per level,
@@ -293,10 +297,10 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
 
     found = deviation_targets.by_tracked_bounds(deviations, run, exact)
     if all(i.core_options.line_weights is None and i.core_options.pose_offsets is None for i in inputs):
-        lean = {"line_weights": options.line_weights * deviation_targets.LEAN_LINE_WEIGHT,
-                "min_quality": options.min_quality * deviation_targets.LEAN_MIN_QUALITY}
-        found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-            deviations, lambda bounds, requested: run(bounds, requested, **lean), exact))
+        # As by_deviation: lean, then the planes' placement, each where it saves a tenth.
+        for variant in deviation_targets.alternatives({"line_weights": options.line_weights}, options.min_quality):
+            found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
+                deviations, lambda bounds, requested, variant=variant: run(bounds, requested, **variant), exact))
     # A level no run met repeats the one before, the whole asset at LOD1, as a part of
     # an asset does in its own search (by_deviation): every part is in every level.
     previous = None

@@ -69,6 +69,24 @@ LEAN_MIN_QUALITY = 0.5  # times the sliver floor
 # triangles are worth a real saving. On organic meshes it saved 1-9 % and had up to three
 # times Decimate's slivers (beast and the bunny at 1 %: 9.6-9.8 % against 3.3-3.6 %).
 LEAN_MIN_SAVING = 0.1
+# A third run places each merged vertex by its planes (core.Options.plane_placement), kept
+# as lean is, where it saves LEAN_MIN_SAVING of the triangles: where the planes leave a
+# direction free (a cap, a straight wall) the line quadrics place a merge, and on the
+# bevelled cylinder of bench/blender_props.py those merges held the LOD at 1,162 triangles
+# at 0.05 % of its diagonal (1.11x Decimate's) with either line weight; by its planes
+# 1,044 (1.00x). Placed so in every run, smooth props lost (the knob at 0.05 %: 1,394 ->
+# 1,976 triangles): a run of its own, so each level keeps the placement that did better
+# (docs/method.md, "Props as Blender makes them").
+
+
+def alternatives(line_weight: dict, min_quality: float) -> list:
+    """The search's runs besides the artist's controls, as core options that replace
+    theirs, in the order they are compared (fewest_each): lean, then the planes'
+    placement. ``line_weight``: the controls' line weight as the core option that carries
+    it, {"line_weight": w} or {"line_weights": (n,) array} (an asset's parts in one run);
+    ``min_quality``: their sliver floor."""
+    lean = {name: value * LEAN_LINE_WEIGHT for name, value in line_weight.items()}
+    return [{**lean, "min_quality": min_quality * LEAN_MIN_QUALITY}, {"plane_placement": True}]
 
 
 def ladder(triangles: int, step: float = LADDER_STEP, floor: int = LADDER_FLOOR) -> list:
