@@ -4,14 +4,15 @@ promises? A script, not a test (it needs ../shared/meshes and runs for minutes).
 Each case takes one mesh, optionally crops it to the faces inside a random ball (open
 borders, several pieces), optionally damages it (fins: a third face on an edge; pinches:
 two far-apart vertices merged), adds noise, and draws a ratio, seed, line weight,
-locked vertices, quadric scales, per-vertex line weights, boundary weight, max_error and UVs with
-a seam. The result must then:
+locked vertices, quadric scales, per-vertex line weights, boundary weight, max_error (half
+the time with plane_placement) and UVs with a seam. The result must then:
 - be a valid mesh: indices in range, no repeated vertex in a face, no duplicate faces,
   every output vertex used; origins in range and one-to-one (but the faces core.stitching
   split at a T-junction, which share their input face);
 - stay manifold and consistently oriented if the input was, and never add a
   non-manifold edge if it was not;
-- hit the target (within 1) unless the stats say why not;
+- hit the target (within 1) unless the stats say why not (a small part removed may take
+  it under: parameters.md, remove_small_components);
 - keep every locked vertex that had a face, exactly where it was;
 - have no zero-area face other than an untouched zero-area face of the input;
 - turn no UV triangle over (when UVs are carried), unless the target needed that rule
@@ -100,6 +101,7 @@ def draw_case(rng, meshes, damage, with_uv):
         options["boundary_weight"] = float(rng.choice([0.0, 1.0, 100.0]))
     if rng.random() < 0.2:
         options["max_error"] = float(diagonal * rng.choice([1e-4, 1e-3, 1e-2]))
+        options["plane_placement"] = bool(rng.random() < 0.5)
     if rng.random() < 0.3:
         options["feature_angle"] = float(rng.choice([0.0, 20.0, 45.0, 80.0, 120.0]))
     if rng.random() < 0.3:
@@ -177,6 +179,10 @@ def broken_promises(V, F, options, r) -> list:
     if "max_error" not in options:
         target = int(round(options["ratio"] * len(F)))
         reached = target - 1 <= len(faces) <= target
+        # A small part left whole when even the cheapest collapse costs more than it
+        # (core.engine._choose) may take the LOD under its target by its triangles.
+        if r.stats.removed_components:
+            reached = len(faces) <= target
         if r.stats.stop_reason == "target_reached" and not reached:
             problems.append(f"target {target} said reached, got {len(faces)}")
         if r.stats.stop_reason != "target_reached" and len(faces) <= target:
