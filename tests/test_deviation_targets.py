@@ -196,3 +196,24 @@ def test_a_part_of_an_asset_is_measured_by_its_area_share_and_its_size():
     parts = [ds.part_samples(1 / 300, 96_000, 320) for _ in range(300)]
     assert parts == [max(min(floor, 320), int(np.ceil(asset / 300)))] * 300
     assert sum(parts) <= 4 * asset
+
+
+def test_the_search_climbs_from_seeds_in_proportion_to_a_level_samples(monkeypatch):
+    """deviation_search.search_report: SEARCH_CLIMB_SEEDS for a level measured with
+    DEVIATION_SAMPLES, proportionally fewer for fewer samples (a small level, a part of an
+    asset), never fewer than the report's own (measure.CLIMB_SEEDS)."""
+    from addon.pure import deviation_search as ds
+    from addon.pure import measure
+
+    seeds = []
+    monkeypatch.setattr(measure, "mesh_report", lambda *args, climb_seeds=None, **kw: seeds.append(climb_seeds))
+
+    def level(triangles):
+        return SimpleNamespace(vertices=np.zeros((3, 3)), faces=np.zeros((triangles, 3), dtype=np.int64))
+
+    source = level(100_000)
+    ds.search_report(source, level(50_000))  # capped at DEVIATION_SAMPLES
+    ds.search_report(source, level(ds.DEVIATION_SAMPLES // ds.DEVIATION_SAMPLES_PER_TRIANGLE // 2))  # half of them
+    ds.search_report(source, level(50_000), part_samples=ds.DEVIATION_SAMPLES // 4)  # a part: its share
+    ds.search_report(source, level(10), part_samples=20)  # a bolt
+    assert seeds == [ds.SEARCH_CLIMB_SEEDS, ds.SEARCH_CLIMB_SEEDS // 2, ds.SEARCH_CLIMB_SEEDS // 4, measure.CLIMB_SEEDS]

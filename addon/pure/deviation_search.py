@@ -49,7 +49,11 @@ SOURCE_SHARE = 0.5
 # median's area, which the report's samples seldom hit and no seed near the largest
 # samples climbs to; the level was kept at 7,226 triangles and measured 0.055 % by
 # bench/equal_error.py), 1,024 at 0.98-1.00, measuring in 1.5-2.8x the time (0.1 -> 0.27
-# s on homer's level), a search in about 1.1x (session 34, docs/method.md).
+# s on homer's level), a search in about 1.1x (session 34, docs/method.md). That many for
+# a surface measured with DEVIATION_SAMPLES, one per 24 samples: a surface measured with
+# fewer (a small mesh, a part of an asset, part_samples) climbs from as many fewer, at
+# least the report's 16. An engine's 29 parts with 1,024 each took its search at
+# --max-error 1% 3% from 36.5 to 47.6 s.
 SEARCH_CLIMB_SEEDS = 1024
 
 
@@ -84,6 +88,14 @@ def part_samples(area_share: float, asset_triangles: int, part_triangles: int) -
     return int(max(floor, np.ceil(report_samples(asset_triangles) * area_share)))
 
 
+def search_report(data, level, part_samples: Optional[int] = None) -> dict:
+    """deviation_report of a level the search keeps: climbing from SEARCH_CLIMB_SEEDS in
+    proportion to the level's samples (report_samples) against DEVIATION_SAMPLES."""
+    samples = report_samples(len(level.faces), part_samples)
+    seeds = max(measure.CLIMB_SEEDS, int(np.ceil(SEARCH_CLIMB_SEEDS * samples / DEVIATION_SAMPLES)))
+    return deviation_report(data, level, part_samples=part_samples, climb_seeds=seeds)
+
+
 def deviation_report(data, level, normals=None, part_samples: Optional[int] = None,
                      climb_seeds: Optional[int] = None) -> dict:
     """measure.mesh_report of ``level`` against the source, as the report measures it
@@ -115,7 +127,7 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
 
     def exact(level):
         report_progress(simplify_share)
-        measured[id(level)] = deviation_report(data, level, climb_seeds=SEARCH_CLIMB_SEEDS)
+        measured[id(level)] = search_report(data, level)
         return measured[id(level)]["hausdorff"]
 
     per_level = _level_limits(lod_input)
@@ -249,7 +261,7 @@ def _measurers(data, levels: list, tick) -> tuple:
 
     def exact(i):
         tick()
-        reports[i] = deviation_report(data, levels[i], climb_seeds=SEARCH_CLIMB_SEEDS)
+        reports[i] = search_report(data, levels[i])
         return reports[i]["hausdorff"]
 
     return quick, exact, reports
@@ -289,8 +301,7 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
         for part, lod_input, scale in zip(split, inputs, scales):
             if part is None:
                 continue
-            report = deviation_report(lod_input.data, part, part_samples=lod_input.part_samples,
-                                      climb_seeds=SEARCH_CLIMB_SEEDS)
+            report = search_report(lod_input.data, part, part_samples=lod_input.part_samples)
             measured[id(part)] = report
             worst = max(worst, report["hausdorff"] * scale)
         return worst
