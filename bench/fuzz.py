@@ -179,8 +179,8 @@ def broken_promises(V, F, options, r) -> list:
     if "max_error" not in options:
         target = int(round(options["ratio"] * len(F)))
         reached = target - 1 <= len(faces) <= target
-        # A small part left whole when even the cheapest collapse costs more than it
-        # (core.engine._choose) may take the LOD under its target by its triangles.
+        # A small part removed when even the cheapest collapse costs more than it is
+        # small (core.engine._choose) may take the LOD under its target by its triangles.
         if r.stats.removed_components:
             reached = len(faces) <= target
         if r.stats.stop_reason == "target_reached" and not reached:

@@ -174,10 +174,11 @@ def plane_optimum(q, geometric, v_keep, v_remove, area_scale: float) -> np.ndarr
 
 def exact_end_rows(s, place, keep, remove) -> np.ndarray:
     """Indices of the rows (pairs ``keep``, ``remove`` placed by ``place``, core.kinds)
-    whose merged vertex may go to an exact end: those placed at the optimum where a
-    distance bound holds, everywhere under max_error, only at painted limits' vertices
-    under limits alone (elsewhere a count target ranks, and count targets keep the
-    optimum: docs/method.md)."""
+    whose merged vertex may go to an exact end (and is placed by its planes under
+    Options.plane_placement): those placed at the optimum where a distance bound holds,
+    everywhere under max_error, only at painted limits' vertices under limits alone
+    (elsewhere a count target ranks, and count targets keep the optimum:
+    docs/method.md)."""
     if s.line_part is None:
         return np.zeros(0, dtype=np.int64)
     rows_ = place == kinds.OPTIMAL

@@ -7,8 +7,8 @@ artist's controls and then the lean run and the planes' placement (fewer triangl
 the same distance: deviation_targets.alternatives); for a deviation none meets, the
 ladder of rungs (deviation_targets.choose_levels), the coarsest rung measured within it
 refined between rungs (a second run). Every level kept is measured as the report
-measures it (``deviation_report``, at ``report_samples``), so its reported number is the
-one the search compared with the bound.
+measures it, with a harder climb (``search_report``, at ``report_samples``), and that
+report is the level's: its number is the one the search compared with the bound.
 
 compute.py calls in here with the run's phases.LodInput and its ways of running the
 core; this module does not import compute.py (which imports it).
@@ -44,16 +44,16 @@ SOURCE_SHARE = 0.5
 # a direction (measure._climb; the report's are one per 1,500 points, at most 16): the
 # search keeps levels close to their bound (deviation_targets.STRETCH_SHARE), and a peak
 # between samples is what takes one beyond. Against one measurement of a million samples
-# and 2,048 seeds, 3 seeds each, on 15 LODs of the shared meshes at 0.05-1 %: 256 seeds
-# came out at 0.85-1.00 of it (homer at 0.05 %: a peak on a LOD triangle a fifth of the
+# and 2,048 seeds, three random seeds each, on 15 LODs of the shared meshes at 0.05-1 %:
+# 256 seeds came out at 0.85-1.00 of it (homer at 0.05 %: a peak on a LOD triangle a fifth of the
 # median's area, which the report's samples seldom hit and no seed near the largest
 # samples climbs to; the level was kept at 7,226 triangles and measured 0.055 % by
 # bench/equal_error.py), 1,024 at 0.98-1.00, measuring in 1.5-2.8x the time (0.1 -> 0.27
-# s on homer's level), a search in about 1.1x (session 34, docs/method.md). That many for
+# s on homer's level), a search in 1.03-1.3x (session 34, docs/method.md). That many for
 # a surface measured with DEVIATION_SAMPLES, one per 24 samples: a surface measured with
 # fewer (a small mesh, a part of an asset, part_samples) climbs from as many fewer, at
-# least the report's 16. An engine's 29 parts with 1,024 each took its search at
-# --max-error 1% 3% from 36.5 to 47.6 s.
+# least the report's 16 (search_report). An engine's 29 parts with 1,024 each took its
+# search at --max-error 1% 3% from 36.5 to 47.6 s.
 SEARCH_CLIMB_SEEDS = 1024
 
 
