@@ -273,8 +273,8 @@ def run(p: Problem) -> list:
         s.bound = DistanceBound(tracker, np.inf if p.max_error is None else p.max_error[0],
                                 np.zeros(len(conn.edges), dtype=np.int8), limited)
     if s.bound is not None and line_part is not None:
-        # Placement at an exact end (core.selection.exact_end) reads the quadric without
-        # its line quadrics: under a distance bound only.
+        # Placement at an exact end and by the planes (core.selection.exact_end,
+        # plane_optimum) reads the quadric without its line quadrics: under a bound only.
         s.line_part = np.asfortranarray(line_part)
         s.plane_placement = p.options.plane_placement
     del line_part
