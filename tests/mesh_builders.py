@@ -363,6 +363,24 @@ def t_junction_slit(left: int = 12, right: int = 7, rows: int = 10):
     return weld_exact(V, F)
 
 
+
+def _revolved(profile, n_around: int, first: int = 0):
+    """A profile of (radius, height) points revolved about z in ``n_around`` steps: its
+    rings' vertices (len(profile) * n_around, 3), ring i's ids starting at ``first`` + i *
+    n_around, and a list of the strips' faces between consecutive rings (2 * n_around
+    triangles each, wound outwards for a profile that runs down the outside)."""
+    profile = np.asarray(profile, dtype=np.float64)
+    t = 2 * np.pi * np.arange(n_around) / n_around
+    V = np.concatenate([np.c_[r * np.cos(t), r * np.sin(t), np.full(n_around, z)] for r, z in profile])
+    cur = np.arange(n_around)
+    nxt = (cur + 1) % n_around
+    strips = []
+    for i in range(len(profile) - 1):
+        a, b = first + i * n_around + cur, first + i * n_around + nxt
+        c, d = first + (i + 1) * n_around + nxt, first + (i + 1) * n_around + cur
+        strips.append(np.concatenate([np.c_[a, d, c], np.c_[a, c, b]]))
+    return V, strips
+
 def filleted_puck(n_around: int = 64, n_cap: int = 4, n_fillet: int = 4, radius: float = 1.0,
                   fillet: float = 0.05, height: float = 0.2):
     """A closed puck, as CAD tessellates one: a flat cap in rings, a quarter-round fillet of
@@ -379,24 +397,15 @@ def filleted_puck(n_around: int = 64, n_cap: int = 4, n_fillet: int = 4, radius:
     profile += [(radius, (height - fillet) * (1 - j / 2)) for j in (1, 2)]
     profile += [(r, 0.0) for r in cap[::-1][1:]]
     profile = np.array(profile)
-    t = 2 * np.pi * np.arange(n_around) / n_around
-    rings = [np.c_[r * np.cos(t), r * np.sin(t), np.full(n_around, z)] for r, z in profile]
-    V = np.concatenate([[[0.0, 0.0, height]], *rings, [[0.0, 0.0, 0.0]]])
+    rings, strips = _revolved(profile, n_around, first=1)
+    V = np.concatenate([[[0.0, 0.0, height]], rings, [[0.0, 0.0, 0.0]]])
     cur = np.arange(n_around)
     nxt = (cur + 1) % n_around
-
-    def ring(i):
-        return 1 + i * n_around
-
-    F = [np.c_[np.zeros(n_around, np.int64), ring(0) + cur, ring(0) + nxt]]
-    island = [np.zeros(n_around, np.int64)]
-    for i in range(len(profile) - 1):
-        a, b, c, d = ring(i) + cur, ring(i) + nxt, ring(i + 1) + nxt, ring(i + 1) + cur
-        F += [np.c_[a, d, c], np.c_[a, c, b]]
-        island += [np.full(2 * n_around, int(i >= foot))]
-    last = ring(len(profile) - 1)
-    F.append(np.c_[np.full(n_around, len(V) - 1), last + nxt, last + cur])
-    island.append(np.ones(n_around, np.int64))
+    last = 1 + (len(profile) - 1) * n_around
+    F = [np.c_[np.zeros(n_around, np.int64), 1 + cur, 1 + nxt], *strips,
+         np.c_[np.full(n_around, len(V) - 1), last + nxt, last + cur]]
+    island = [np.zeros(n_around, np.int64), *(np.full(2 * n_around, int(i >= foot)) for i in range(len(strips))),
+              np.ones(n_around, np.int64)]
     F, island = np.concatenate(F), np.concatenate(island)
     P = V[F]
     planar = P[..., :2] * 0.2 + 0.3
@@ -416,18 +425,9 @@ def bevelled_disc(n_around: int = 64, radius: float = 1.0, depth: float = 0.4, b
     quarter = 0.5 * np.pi * np.arange(segments + 1) / segments
     top = np.c_[radius - bevel + bevel * np.sin(quarter), half - bevel + bevel * np.cos(quarter)]
     bottom = np.c_[radius - bevel + bevel * np.cos(quarter), -half + bevel - bevel * np.sin(quarter)]
-    profile = np.concatenate([top, bottom])
-    t = 2 * np.pi * np.arange(n_around) / n_around
-    V = np.concatenate([np.c_[r * np.cos(t), r * np.sin(t), np.full(n_around, z)] for r, z in profile])
-    cur = np.arange(n_around)
-    nxt = (cur + 1) % n_around
-    F = []
-    for i in range(len(profile) - 1):
-        a, b = i * n_around + cur, i * n_around + nxt
-        c, d = (i + 1) * n_around + nxt, (i + 1) * n_around + cur
-        F += [np.c_[a, d, c], np.c_[a, c, b]]
+    V, F = _revolved(np.concatenate([top, bottom]), n_around)
     fan = np.arange(1, n_around - 1)
-    last = (len(profile) - 1) * n_around
+    last = len(V) - n_around
     F.append(np.c_[np.zeros(len(fan), np.int64), fan, fan + 1])
     F.append(np.c_[np.full(len(fan), last), last + fan + 1, last + fan])
     return V, np.concatenate(F)
