@@ -272,9 +272,11 @@ class LodJob:
             return False
         if any(i.limit is not None or i.poses is not None for i in self.inputs):
             return False
-        first = self.inputs[0].core_options
-        return all(getattr(i.core_options, name) == getattr(first, name)
-                   for i in self.inputs for name in core.assembly.SHARED)
+        try:
+            core.assembly.shared_options([i.core_options for i in self.inputs])
+        except ValueError:
+            return False
+        return True
 
     def _run_together(self, progress) -> float:
         """Simplify every part in one core run to the asset's targets (core.assembly: each

@@ -21,7 +21,8 @@ in the part's own units, with the part's own attributes only. A part with no fac
 (removed as a small part, Options.remove_small_components) comes back as None.
 
 What the parts must share, because the run has one value of it: every scalar option
-(line weight, rules, seed, ...). Painted limits and max_error are not combined: the
+(rules, seed, ...; the line weight is per vertex), but the exponents of importance, which
+only the parts with importance must share (SCALED_ONLY). Painted limits and max_error are not combined: the
 tracked distance finds the closest source point, which may lie on another part.
 """
 from __future__ import annotations
@@ -63,9 +64,14 @@ class Layout:
 
 
 # Options every part must give alike: the run has one of each.
-SHARED = ("line_scale_exponent", "boundary_weight", "seed", "preserve_seams", "weld_distance",
+SHARED = ("boundary_weight", "seed", "preserve_seams", "weld_distance",
           "stitch_cracks", "probabilistic_sigma", "feature_angle", "min_quality", "plane_placement",
-          "remove_small_components", "pose_weight", "key_scale_exponent")
+          "remove_small_components", "pose_weight")
+# Options that act only through a part's quadric_scale (importance, raised to them): a
+# part without one, or whose scale is 1 everywhere, is the same under any value. So only
+# the parts with importance must agree, and the run takes theirs: an asset whose head
+# alone is painted, or whose face alone has shape keys, is still one run.
+SCALED_ONLY = ("line_scale_exponent", "key_scale_exponent")
 # Options that cannot be combined (see the module's docstring).
 NOT_COMBINED = ("max_error", "vertex_max_error", "vertex_part", "part_copies")
 
@@ -79,10 +85,7 @@ def combine(parts: Sequence[Part]) -> tuple:
     for name in NOT_COMBINED:
         if any(getattr(p.options, name) is not None for p in parts):
             raise ValueError(f"parts with {name} cannot share a run: simplify them one by one")
-    for name in SHARED:
-        values = {repr(getattr(p.options, name)) for p in parts}
-        if len(values) > 1:
-            raise ValueError(f"the parts differ in {name} ({', '.join(sorted(values))}): one run has one")
+    shared = shared_options([p.options for p in parts])
     for p in parts:
         if not p.scale > 0:
             raise ValueError(f"a part's scale must be > 0, got {p.scale}")
@@ -122,7 +125,7 @@ def combine(parts: Sequence[Part]) -> tuple:
     poses = _poses(parts, n)
     labels = np.repeat(np.arange(len(parts)), n)
     options = dataclasses.replace(
-        first,
+        first, **shared,
         line_weight=0.0, line_weights=line_weights, quadric_scale=quadric_scale, locked=locked,
         vertex_attributes=vattrs, corner_attributes=cattrs,
         normalize_attributes=tuple(sorted({a for p in parts for a in p.options.normalize_attributes})),
@@ -136,6 +139,26 @@ def combine(parts: Sequence[Part]) -> tuple:
     layout = Layout(v_off, f_off, np.array([float(p.scale) for p in parts]), labels, vwidths, cwidths, shapes,
                     given)
     return vertices, faces, options, layout
+
+
+def shared_options(options: Sequence[Options]) -> dict:
+    """{name: the one value a run of parts with ``options`` has} for SHARED and
+    SCALED_ONLY; ValueError naming the option when the parts differ in it."""
+    scaled = [o for o in options if _has_importance(o)]
+    out = {}
+    for names, among in ((SHARED, options), (SCALED_ONLY, scaled or options[:1])):
+        for name in names:
+            values = {repr(getattr(o, name)) for o in among}
+            if len(values) > 1:
+                raise ValueError(f"the parts differ in {name} ({', '.join(sorted(values))}): one run has one")
+            out[name] = getattr(among[0], name)
+    return out
+
+
+def _has_importance(options: Options) -> bool:
+    """Whether ``options`` scales some vertex's quadric (quadric_scale not 1 everywhere)."""
+    scale = options.quadric_scale
+    return scale is not None and bool(np.any(np.asarray(scale, dtype=np.float64) != 1.0))
 
 
 def _side_by_side(per_part: list, counts: np.ndarray, offsets: frozenset, scales: list,

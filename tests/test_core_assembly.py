@@ -130,6 +130,52 @@ def test_parts_must_share_the_options_a_run_has_one_of(change):
         assembly.combine([assembly.Part(V, F, core.Options()), assembly.Part(V, F, core.Options(**change))])
 
 
+def _keyed_sphere(importance: bool, **exponents):
+    """A sphere whose top a shape key lifts, with importance (quadric_scale 4 on the top,
+    as Source Shape Keys gives) or without, and ``exponents`` (line_/key_scale_exponent)."""
+    V, F = _sphere(3)
+    key = np.zeros((len(V), 3))
+    key[V[:, 2] > 0.5, 2] = 0.2
+    scale = np.where(V[:, 2] > 0.5, 4.0, 1.0) if importance else None
+    return V, F, core.Options(vertex_attributes={"shape0": key}, shape_attributes=("shape0",),
+                              quadric_scale=scale, **exponents)
+
+
+@pytest.mark.parametrize("scale", [None, "ones"])
+def test_importance_exponents_do_not_touch_a_part_without_importance(scale):
+    """line_scale_exponent and key_scale_exponent raise quadric_scale: a mesh without
+    one (or with 1 everywhere) simplifies the same under any value of them."""
+    V, F, base = _keyed_sphere(False)
+    if scale == "ones":
+        base = core.Options.of(base, quadric_scale=np.ones(len(V)))
+    plain = core.simplify(V, F, target_faces=len(F) // 4, options=base)
+    raised = core.simplify(V, F, target_faces=len(F) // 4,
+                           options=core.Options.of(base, line_scale_exponent=0.75, key_scale_exponent=1.9))
+    np.testing.assert_array_equal(plain.faces, raised.faces)
+    np.testing.assert_array_equal(plain.vertices, raised.vertices)
+
+
+def test_a_part_with_importance_shares_a_run_with_parts_without():
+    """Importance on one part (its exponents the add-on's) and none on the other (the
+    defaults): one run, with the painted part's exponents, and no part's result is
+    changed by what the other part's options say about them. Two parts with importance
+    must agree."""
+    Va, Fa, painted = _keyed_sphere(True, line_scale_exponent=0.75, key_scale_exponent=1.9)
+    Vb, Fb, plain = _keyed_sphere(False)
+    parts = [assembly.Part(Va, Fa, painted), assembly.Part(Vb + 4.0, Fb, plain)]
+    options = assembly.combine(parts)[2]
+    assert (options.line_scale_exponent, options.key_scale_exponent) == (0.75, 1.9)
+    levels, _ = _run(parts, [len(Fa) // 2])
+    alike = [parts[0], assembly.Part(Vb + 4.0, Fb, core.Options.of(plain, line_scale_exponent=0.75,
+                                                                   key_scale_exponent=1.9))]
+    same, _ = _run(alike, [len(Fa) // 2])
+    for got, want in zip(levels[0], same[0]):
+        np.testing.assert_array_equal(got.faces, want.faces)
+    other = core.Options.of(painted, line_scale_exponent=1.0)
+    with pytest.raises(ValueError, match="line_scale_exponent"):
+        assembly.combine([parts[0], assembly.Part(Vb + 4.0, Fb, other)])
+
+
 @pytest.mark.parametrize("change", [dict(max_error=0.1), dict(vertex_max_error=np.full(162, 0.1))])
 def test_distance_bounds_are_not_combined(change):
     """The tracked distance finds the closest source point, which could be on another part."""
