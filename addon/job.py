@@ -96,9 +96,9 @@ class ObjectObserver:
 
 
 def _prepare(context, obj, settings: LodSettings, chain_labels: tuple, asset=None,
-             keys_optional: bool = False) -> LodInput:
+             importance_optional: bool = False) -> LodInput:
     try:
-        return lod.prepare(context, obj, settings, chain_labels, asset, keys_optional)
+        return lod.prepare(context, obj, settings, chain_labels, asset, importance_optional)
     except LodError as ex:
         # With several objects, a message such as "the first LOD's target ... is not
         # smaller than the mesh" must say which one it is about.
@@ -157,7 +157,7 @@ class LodJob:
                 group = next((g for other, g in shared.get(key, ()) if other == s), None)
             if group is None:
                 self.inputs.append(_prepare(context, ob, s, chain_labels, self.asset,
-                                            keys_optional=len(objects) > 1))
+                                            importance_optional=len(objects) > 1))
                 self._matrices.append([])
                 group = len(self.groups)
                 self.groups.append([])
@@ -169,7 +169,7 @@ class LodJob:
             self._matrices[group].append(asset_set.world_matrix(ob))
             self.objects.append(ob.name)
             self._group_of.append(group)
-        self._check_shape_keys(objects, per_object)
+        self._check_importance(objects, per_object)
         if self.asset is not None:
             _set_part_samples(self.inputs, self._matrices)
         if self.asset is not None and ASSET_KEY_REFERENCE:
@@ -190,13 +190,14 @@ class LodJob:
         self._cancel = threading.Event()
         self._thread: Optional[threading.Thread] = None
 
-    def _check_shape_keys(self, objects: list, per_object: list) -> None:
-        """Source Shape Keys on several objects: those without keys were made without
-        importance (object_importance.NO_KEYS_NOTE); LodError when none of them has any."""
-        asked = [(ob.name, g) for ob, s, g in zip(objects, per_object, self._group_of)
-                 if s.importance_source == 'SHAPE_KEYS']
-        if len(objects) > 1 and asked and not any(self.inputs[g].data.shape_keys for _, g in asked):
-            raise LodError(object_importance.none_has_shape_keys([name for name, _ in asked]))
+    def _check_importance(self, objects: list, per_object: list) -> None:
+        """An importance source on several objects: those without it were made without
+        importance (lod.prepare, with a note); LodError when none of them has it."""
+        asked = [(ob.name, s, g) for ob, s, g in zip(objects, per_object, self._group_of)
+                 if s.importance_source != 'NONE']
+        if len(objects) > 1 and asked and all(self.inputs[g].settings.importance_source == 'NONE'
+                                              for _, _, g in asked):
+            raise LodError(object_importance.none_has_source(asked[0][1], [name for name, _, _ in asked]))
 
     @property
     def object_inputs(self) -> list:

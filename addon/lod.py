@@ -192,15 +192,16 @@ def shared_mesh_key(source, settings: LodSettings):
 
 
 def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple = (),
-            asset: Optional[asset_set.Asset] = None, keys_optional: bool = False) -> LodInput:
+            asset: Optional[asset_set.Asset] = None, importance_optional: bool = False) -> LodInput:
     """Check the input and read everything the run needs from Blender (main thread).
     ``chain_labels``: how a message about the explicit chain names its ratios and triangle
     counts (LodSettings.targets; the command line: "--ratios", "--faces"). ``asset``: the
     asset ``source`` is a part of (addon/asset.py): a chain by triangles gets its targets
     from the asset's budget later (LodJob), deviations are relative to the asset.
-    ``keys_optional``: ``source`` is one of several objects (LodJob): with Source Shape
-    Keys, a mesh without shape keys is made without importance and gets NO_KEYS_NOTE
-    rather than an error (LodJob raises one when none of the objects has keys)."""
+    ``importance_optional``: ``source`` is one of several objects (LodJob): one without
+    the importance source (the painted group, the rig's skin, shape keys: object_importance.
+    missing_source) is made without importance and gets a note rather than an error, as
+    the command line does (LodJob raises one when none of the objects has it)."""
     check_source(source)
     settings.validate()
     _, depsgraph = mesh_io.scene_and_depsgraph(context_or_scene)
@@ -228,9 +229,11 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         targets = settings.targets(len(data.faces), *chain_labels)
         if settings.deviation_chain() is not None:
             deviations = settings.deviations(measure.bbox_diagonal(data.vertices, data.faces))
-    if keys_optional and settings.importance_source == 'SHAPE_KEYS' and not data.shape_keys:
+    missing = object_importance.missing_source(source, settings, data) if importance_optional else None
+    if missing is not None:
         g = None
-        warnings.append(object_importance.NO_KEYS_NOTE)
+        warnings.append(object_importance.no_importance_note(missing))
+        settings = dataclasses.replace(settings, importance_source='NONE')
     else:
         g = object_importance.importance_of(source, settings, data.group_names, data.group_weights,
                                             lambda: key_deviation.offsets_of(data))

@@ -15,7 +15,7 @@ from . import vertex_groups
 from .pure import importance as imp
 from .pure import key_deviation
 from .pure.settings import LodError, LodSettings
-from .rig import skinned_columns
+from .rig import deform_columns, skinned_columns
 
 
 def skin_importance_of(obj, group_names, group_weights) -> np.ndarray:
@@ -30,16 +30,44 @@ def no_shape_keys(obj) -> str:
             f'or choose another importance source')
 
 
-def none_has_shape_keys(names: list) -> str:
-    """The message for Source Shape Keys on several objects none of which has any."""
+def none_has_source(settings: LodSettings, names: list) -> str:
+    """The message for an importance source that none of several objects has."""
     shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
-    return (f"Source Shape Keys: none of the {len(names)} objects ({shown}) has shape keys: add some "
-            f"(Object Data Properties > Shape Keys) or choose another importance source")
+    of = f"none of the {len(names)} objects ({shown})"
+    source = settings.importance_source
+    if source == 'SHAPE_KEYS':
+        return (f"Source Shape Keys: {of} has shape keys: add some "
+                f"(Object Data Properties > Shape Keys) or choose another importance source")
+    if source == 'VERTEX_GROUP':
+        return (f'Importance group "{settings.importance_group}": {of} has it: paint it '
+                f"(Weight Paint mode) or choose another group")
+    return (f"Source Armature: {of} is skinned (an Armature modifier or armature parent, and vertex "
+            f"groups named after its deform bones): choose another importance source")
 
 
-# One of several objects (an asset's part) without shape keys under Source Shape Keys: no
-# importance, this note (the command line's words for the same case, headless/sources.py).
-NO_KEYS_NOTE = "no importance (no shape keys)"
+def missing_source(obj, settings: LodSettings, data) -> Optional[str]:
+    """Why ``obj`` (its mesh read as ``data``, pure/mesh_data.MeshData) cannot give the
+    settings' importance source, in the command line's words (headless/sources.py):
+    'no vertex group "X"', 'not skinned' or 'no shape keys'; None when it can or the
+    source is None. prepare() raises LodError for an object alone, and gives a part of
+    several objects no importance and the note no_importance_note(reason)."""
+    source = settings.importance_source
+    if source == 'VERTEX_GROUP' and settings.importance_group \
+            and settings.importance_group not in data.group_names:
+        return f'no vertex group "{settings.importance_group}"'
+    if source in ('ARMATURE', 'ARMATURE_PAPER') and not deform_columns(obj, data.group_names)[1]:
+        return "not skinned"
+    if source == 'SHAPE_KEYS' and not data.shape_keys:
+        return "no shape keys"
+    return None
+
+
+def no_importance_note(reason: str) -> str:
+    """The note of a part made without importance: missing_source's ``reason``."""
+    return f"no importance ({reason})"
+
+
+NO_KEYS_NOTE = no_importance_note("no shape keys")
 
 
 def shape_key_importance_of(obj) -> np.ndarray:

@@ -144,6 +144,26 @@ def test_deviations_are_relative_to_the_asset(res):
         assert level["hausdorff_percent"] <= 1.5 * percent
 
 
+def test_importance_on_one_part_keeps_the_asset_in_one_run(res):
+    """The hull alone painted (Importance: Vertex Group; the bolts and the decal have no
+    such group): its importance exponents are nothing to the unpainted parts, so the
+    asset is still one core run by ratios, and one search by deviation; the painted hull
+    keeps more of the budget than unpainted."""
+    painted, plain = res["importance_one_part"], res["asset"]
+    assert "error" not in painted, painted.get("error")
+    assert painted["together"] and len(painted["core_runs"]) == 1, painted["core_runs"]
+    hull = [lev["triangles"] for lev in painted["lods"]["Hull"]]
+    assert all(a > b for a, b in zip(hull, (lev["triangles"] for lev in plain["lods"]["Hull"]))), hull
+    assert 'no importance (no vertex group "Face")' in painted["reports"]["Bolt"]["warnings"]
+    assert not any(w.startswith("no importance") for w in painted["reports"]["Hull"]["warnings"])
+    error = res["importance_no_part_painted"]["error"]
+    assert error.startswith('Importance group "Face": none of the 4 objects'), error
+    searched = res["importance_one_part_deviation"]
+    assert "error" not in searched, searched.get("error")
+    total = sum(searched["source_triangles"].values()) - searched["source_triangles"]["Bolt2"]  # (Bolt's mesh)
+    assert searched["core_runs"] and all(m == total for m in searched["core_runs"]), searched["core_runs"]
+
+
 def test_an_asset_too_small_for_its_chain_is_an_error(res):
     error = res["too_small"]["error"]
     assert error.startswith("the asset of 4 objects") and "10000" in error

@@ -112,3 +112,17 @@ def test_coarse_levels_remade_without_the_poses_keep_a_painted_limit(res):
     assert any(level["triangles"] < 40 * limited["bones"] for level in levels), [(lv["triangles"], lv["target"]) for lv in levels]
     for level in levels:
         assert level["limit"] is not None and level["limit"]["within"], level
+
+
+def test_an_unskinned_part_beside_a_skinned_one_gets_no_importance_with_a_note(res):
+    """Source Armature on a selection with a prop no bone deforms: the arm is kept close in
+    the rig's poses, the prop is simplified without importance and says so (the command
+    line's words); the prop alone, or only such props, is an error naming them."""
+    mixed = res["unskinned_prop"]
+    assert "error" not in mixed, mixed.get("error")
+    assert mixed["poses"] == {"Arm": True, "Prop": False}
+    assert "no importance (not skinned)" in mixed["warnings"]["Prop"], mixed["warnings"]
+    assert not any(w.startswith("no importance") for w in mixed["warnings"]["Arm"]), mixed["warnings"]
+    assert all(len(chain) == 2 for chain in mixed["triangles"].values()), mixed["triangles"]
+    assert '"Prop" is not skinned' in mixed["alone_error"], mixed["alone_error"]
+    assert mixed["none_error"].startswith("Source Armature: none of the 2 objects"), mixed["none_error"]

@@ -158,6 +158,14 @@ def run() -> dict:
         # curves sees the limit, so the asset still draws its budget.
         "limit_pixels": run_job(painted=True, ratios=(0.5, 0.25, 0.125), limit_group="Face",
                                 limit_distance=0.1, limit_unit='PIXELS'),
+        # Importance painted on the hull alone (the other parts have no such group): still
+        # one run for the asset, by ratios and by deviation.
+        "importance_one_part": run_job(painted=True, ratios=(0.5, 0.25, 0.125), importance_source='VERTEX_GROUP',
+                                       importance_group="Face", measure_deviation=False),
+        "importance_one_part_deviation": run_job(painted=True, max_deviations=((1.0, True), (4.0, True)),
+                                                 importance_source='VERTEX_GROUP', importance_group="Face"),
+        "importance_no_part_painted": run_job(ratios=(0.5,), importance_source='VERTEX_GROUP',
+                                              importance_group="Face", measure_deviation=False),
         # A cube whose Mask modifier leaves no faces: the asset goes on without it.
         "masked": run_job(masked=True, ratios=(0.5, 0.25, 0.125), measure_deviation=False),
         # A Boolean cutter, a box disabled in renders and a collision box, selected with

@@ -169,6 +169,37 @@ def limited_coarse_levels(ob, V) -> dict:
                        for lev in report["levels"]], "bones": len(BONES)}
 
 
+def with_an_unskinned_prop(ob) -> dict:
+    """Source Armature on the arm and a box beside it that no bone deforms (a prop, an
+    asset's rigid part), as the panel takes several selected objects: the box is made
+    without importance, with a note; on the box alone, or two such boxes, it is an error."""
+    lod = extension_module("addon.lod")
+    job_mod = extension_module("addon.job")
+    bpy.ops.mesh.primitive_cube_add(size=0.3, location=(1.0, 0.0, 0.5))
+    prop = bpy.context.active_object
+    prop.name = "Prop"
+    settings = lod.LodSettings(ratios=(0.5, 0.25), importance_source='ARMATURE')
+    out = {}
+    try:
+        job = job_mod.LodJob(bpy.context, [ob, prop], settings)
+        job.run()
+        out["warnings"] = {name: i.warnings for name, i in zip(job.objects, job.object_inputs)}
+        out["poses"] = {name: i.poses is not None for name, i in zip(job.objects, job.object_inputs)}
+        out["triangles"] = {name: [len(level.faces) for level in output.levels]
+                            for name, output in zip(job.objects, job.object_outputs)}
+    except lod.LodError as ex:
+        out["error"] = str(ex)
+    other = prop.copy()
+    bpy.context.scene.collection.objects.link(other)
+    for objects, key in (([prop], "alone_error"), ([prop, other], "none_error")):
+        try:
+            job_mod.LodJob(bpy.context, objects, settings)
+            out[key] = None
+        except lod.LodError as ex:
+            out[key] = str(ex)
+    return out
+
+
 def run() -> dict:
     result = {}
     remove_all_objects()
@@ -181,5 +212,6 @@ def run() -> dict:
     result["source_triangles"] = src_tris
     result["runs"] = posed_against_decimate(rig, ob, V, skin, src_tris)
     result["posed_run"] = generate_while_posed(rig, ob, V, faces)
+    result["unskinned_prop"] = with_an_unskinned_prop(ob)
     result["limited"] = limited_coarse_levels(ob, V)
     return result
