@@ -63,6 +63,11 @@ RULES = (
                             "and are smaller than its error (core.engine._release_small_corners)", True),
     Rule("uv_area", "no UV triangle shrinks below min_uv_area_kept of its area", True),
     Rule("uv_flip", "no UV triangle flips", True),
+    # Topology that changes but stays manifold: relaxed after every quality rule
+    # (core.engine._unstick), before the smallest parts go.
+    Rule("small_holes_stay", "a hole of three border edges stays open; once nothing else can reach the "
+                             "target, collapsing one of its edges closes it (core.validation, as Decimate "
+                             "does)", True),
 )
 
 

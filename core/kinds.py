@@ -83,6 +83,9 @@ FAULTS = (
                                                              "has one UV: no seam vertex, it moves freely"),
     ("normals split at every hard edge", "core.engine", "custom normals are Options.seamless_attributes: "
                                                         "carried, each side its own, but no seams"),
+    ("small holes (cracks, pin holes)", "core.validation", "a hole shrinks to three border edges and stays "
+                                                            "open while the target allows; then one of them "
+                                                            "collapses and closes it (rule small_holes_stay)"),
     ("tiny separate parts", "core.components", "each shrinks to its smallest; below that the smallest parts go "
                                                "whole (remove_small_components, on by default)"),
 )

@@ -8,8 +8,9 @@ import numpy as np
 # Why a run stopped (``SimplifyStats.stop_reason``).
 STOP_TARGET = "target_reached"
 STOP_MAX_ERROR = "max_error_reached"
-# No collapse is possible even with every quality rule relaxed (core.guards): closed
-# parts, holes, non-manifold edges and locked vertices allow no fewer triangles.
+# No collapse is possible even with every quality rule relaxed and the small holes free
+# to close (core.guards): closed parts, non-manifold edges, locked vertices and faces
+# that would turn away from their input faces allow no fewer triangles.
 STOP_TOPOLOGY = "topology_limit"
 # The painted limits (Options.vertex_max_error) hold back every collapse the target still
 # needs, with every quality rule relaxed and every part that may go removed.
@@ -21,8 +22,9 @@ STOP_REASON_TEXT = {
     STOP_MAX_ERROR: "the maximum error allows no further collapse",
     STOP_LIMIT: "the painted limits allow no further collapse where the region must stay close",
     STOP_TOPOLOGY: ("the mesh's topology allows no fewer triangles (each closed part needs at "
-                    "least four, each open one at least one; non-manifold edges, holes, locked "
-                    "vertices and separate parts keep theirs)"),
+                    "least four, each open one at least one; non-manifold edges, locked vertices "
+                    "and separate parts keep theirs, and no face may turn away from the surface "
+                    "it stands for)"),
 }
 
 

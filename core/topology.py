@@ -170,6 +170,26 @@ def _connectivity(lo, hi, edge_faces, he0, he1, he_edge, n_vertices, edge_keys=N
                         border_vertex=border_vertex, edge_keys=edge_keys)
 
 
+def has_triangular_holes(conn: Connectivity) -> bool:
+    """Whether some open border runs around a hole of three edges (a, b, c): the
+    border edges of a vertex with two of them, whose other ends share a border edge."""
+    border = conn.edges[conn.edge_faces == 1]
+    if len(border) < 3:
+        return False
+    ends = border.ravel()
+    other = border[:, ::-1].ravel()
+    order = np.argsort(ends, kind="stable")
+    ends, other = ends[order], other[order]
+    first = np.flatnonzero(np.concatenate([[True], ends[1:] != ends[:-1]]))
+    count = np.diff(np.append(first, len(ends)))
+    pairs = first[count == 2]
+    lo = np.minimum(other[pairs], other[pairs + 1])
+    hi = np.maximum(other[pairs], other[pairs + 1])
+    n = np.int64(len(conn.border_vertex))
+    keys = np.minimum(border[:, 0], border[:, 1]) * n + np.maximum(border[:, 0], border[:, 1])
+    return bool(np.isin(lo * n + hi, keys).any())
+
+
 def faces_touching(faces: np.ndarray, vertices: np.ndarray, n_vertices: int) -> np.ndarray:
     """(m,) bool: the faces with a corner among ``vertices``."""
     flags = np.zeros(n_vertices, dtype=bool)

@@ -44,7 +44,8 @@ def valid_collapses(s, conn, cand, chosen, opposite, faces_taken, window=None) -
     fans = _rings(s, cand, chosen, *topology.gather_vertex_corners(s.F, np.concatenate([keep, remove]), n, window))
     collapse, from_keep, faces, moving, nb_next, nb_prev, other_end, dying = fans
     edge = cand.edge[chosen]
-    ok = _link_condition(conn, edge, nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep, collapse, c, n)
+    ok = _link_condition(conn, edge, nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep, collapse, c, n,
+                         s.close_holes)
     opposite0, opposite1 = opposite
     ok &= _no_vertex_left_bare(s.face_count, faces_taken, keep, remove, conn.edge_faces[edge], opposite0, opposite1)
     ok &= _no_fold_onto_opposite_edge(opposite0, opposite1, nb_next, nb_prev, dying, from_keep, collapse, c)
@@ -87,7 +88,7 @@ def screened(s, conn, cand, idx) -> np.ndarray:
     fans = _rings(s, cand, idx, *topology.gather_corners_of_each(s.F, np.concatenate([keep, remove]), n))
     collapse, from_keep, _, moving, nb_next, nb_prev, other_end, _ = fans
     ok = _link_condition(conn, cand.edge[idx], nb_next, nb_prev, _open_fan(s, conn, moving), other_end, from_keep,
-                         collapse, c, n)
+                         collapse, c, n, s.close_holes)
     return ok & _corners_kept(s, conn, keep, remove, cand.position[idx], fans, c)
 
 
@@ -181,9 +182,12 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
     return bad
 
 
-def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n) -> np.ndarray:
+def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_keep, collapse, c, n,
+                    close_holes: bool = False) -> np.ndarray:
     """Link condition from the ring neighbours of both ends: they share exactly the
-    corners opposite the edge.
+    corners opposite the edge. With ``close_holes`` (rule small_holes_stay relaxed) a
+    border edge may also share the third corner of a hole of three edges, which the
+    collapse closes (_closes_triangular_hole).
 
     Every (collapse, neighbour, side) becomes one integer; one sort of them all gives the
     distinct neighbours of each end and, where the same neighbour follows on the other
@@ -199,7 +203,41 @@ def _link_condition(conn, edges, nb_next, nb_prev, open_fan, other_end, from_kee
     shared_here = np.zeros(len(distinct), dtype=bool)
     shared_here[:-1] = (distinct[1:] == distinct[:-1] + 1) & ~from_remove[:-1]
     shared = np.bincount(owner.compress(shared_here), minlength=c)
-    return shared == conn.edge_faces[edges]
+    ok = shared == conn.edge_faces[edges]
+    if close_holes:
+        maybe = (shared == 2) & (conn.edge_faces[edges] == 1)
+        if maybe.any():
+            common = (distinct // 2) % n
+            ok |= _closes_triangular_hole(maybe, owner.compress(shared_here), common.compress(shared_here),
+                                          nb_next, nb_prev, other_end, from_keep, collapse, c)
+    return ok
+
+
+def _closes_triangular_hole(maybe, shared_owner, shared_vertex, nb_next, nb_prev, other_end, from_keep, collapse,
+                            c) -> np.ndarray:
+    """(c,) bool: which border-edge collapses (a, b) whose ends share two neighbours
+    (``maybe``) close a hole of three edges (a, b, h): the neighbour h that is not the
+    corner opposite (a, b) lies on one face around a and one around b (so a-h and b-h are
+    border edges too), and those faces' third corners differ. The collapse then merges
+    a-h and b-h into one inner edge of two faces: the hole is gone and the surface stays
+    manifold (with the same third corner the two faces would become one twice)."""
+    # The corner opposite the edge: the other ring corner of a face on it.
+    on_edge = (nb_next == other_end) | (nb_prev == other_end)
+    opposite = np.full(c, -1, dtype=np.int64)
+    opposite[collapse[on_edge]] = np.where(nb_next == other_end, nb_prev, nb_next)[on_edge]
+    hole = np.full(c, -1, dtype=np.int64)
+    pick = maybe[shared_owner] & (shared_vertex != opposite[shared_owner])
+    hole[shared_owner[pick]] = shared_vertex[pick]
+    h = hole[collapse]
+    hits = (h >= 0) & ((nb_next == h) | (nb_prev == h))
+    third = np.where(nb_next == h, nb_prev, nb_next)
+    at_keep = np.bincount(collapse[hits & from_keep], minlength=c)
+    at_remove = np.bincount(collapse[hits & ~from_keep], minlength=c)
+    third_keep = np.full(c, -1, dtype=np.int64)
+    third_remove = np.full(c, -2, dtype=np.int64)
+    third_keep[collapse[hits & from_keep]] = third[hits & from_keep]
+    third_remove[collapse[hits & ~from_keep]] = third[hits & ~from_keep]
+    return maybe & (hole >= 0) & (at_keep == 1) & (at_remove == 1) & (third_keep != third_remove)
 
 
 def opposite_corners(F, conn, edges) -> tuple:

@@ -431,3 +431,22 @@ def bevelled_disc(n_around: int = 64, radius: float = 1.0, depth: float = 0.4, b
     F.append(np.c_[np.zeros(len(fan), np.int64), fan, fan + 1])
     F.append(np.c_[np.full(len(fan), last), last + fan + 1, last + fan])
     return V, np.concatenate(F)
+
+
+def holed_sphere(level: int = 3, holes: int = 40, seed: int = 0):
+    """An icosphere with ``holes`` faces removed, no two sharing a vertex or a neighbour:
+    as many separate holes of three border edges. Returns (V, F, holes)."""
+    V, F = icosphere(level)[:2]
+    F = np.asarray(F)
+    used = np.zeros(len(V), dtype=bool)
+    removed = []
+    for f in np.random.default_rng(seed).permutation(len(F)):  # (a builder: a loop is fine)
+        ring = np.flatnonzero(np.isin(F, F[f]).any(axis=1))
+        if not used[F[ring]].any():
+            removed.append(f)
+            used[F[ring]] = True
+            if len(removed) == holes:
+                break
+    keep = np.ones(len(F), dtype=bool)
+    keep[removed] = False
+    return np.asarray(V, dtype=np.float64), F[keep], len(removed)

@@ -163,6 +163,40 @@ def test_five_hundred_bolts_reach_the_target(ratio):
     assert check.count_components(len(kept.vertices), check.edge_table(kept.faces)[0]) == 500
 
 
+# ---------------------------------------------------------------- small holes
+
+def test_small_holes_stay_open_while_the_target_allows():
+    """A sphere with 35 holes of three edges (pin holes, cracks a CAD export leaves): at
+    25 % every hole is still there, three border edges each, and no relaxation was
+    needed to keep them."""
+    V, F, holes = build.holed_sphere()
+    assert check.boundary_loops(F) == holes
+    r = core.simplify(V, F, ratio=0.25)
+    check.assert_valid_result(r, V, F)
+    assert r.stats.stop_reason == core.STOP_TARGET
+    assert check.boundary_loops(r.faces) == holes
+    assert len(check.boundary_edges(r.faces)) == 3 * holes
+
+
+@pytest.mark.parametrize("target", [24, 16])
+def test_small_holes_close_when_the_target_needs_it(target):
+    """Below what 35 open holes allow (each keeps three border vertices), the holes close,
+    one edge collapse each, and the LOD reaches the target as Decimate does: manifold,
+    consistently wound, each closed hole adding one to the Euler characteristic. Before
+    rule small_holes_stay relaxed, the run stopped at 171 triangles (topology_limit)."""
+    V, F, holes = build.holed_sphere()
+    r = core.simplify(V, F, target_faces=target)
+    check.assert_valid_result(r, V, F)
+    check.assert_target_respected(r, target)
+    assert r.stats.stop_reason == core.STOP_TARGET
+    closed = holes - check.boundary_loops(r.faces)
+    assert closed > 0
+    assert check.euler_characteristic(r.faces) == check.euler_characteristic(F) + closed
+    n_out = check.face_normals(r.vertices, r.faces)
+    n_in = check.face_normals(V, F)[r.face_origin]
+    assert np.all(np.einsum("ij,ij->i", n_out, n_in) > 0)
+
+
 def test_removed_bolts_are_the_smallest():
     """Parts go smallest first by the area they have when the run gets stuck: what the
     same run with every part kept ends with."""

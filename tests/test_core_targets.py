@@ -58,7 +58,8 @@ def test_rules_table_names_every_relaxable_rule_the_ladder_changes():
     assert last.min_normal_cosine == 0.0 and last.min_quality == 0 and last.seams == "free"
     assert not last.uv_flip and not last.corners_kept
     relaxable = {r.name for r in RULES if r.relaxes}
-    assert relaxable == {"normal_turn", "sliver", "seams", "uv_area", "uv_flip", "feature_corners"}
+    assert relaxable == {"normal_turn", "sliver", "seams", "uv_area", "uv_flip", "feature_corners",
+                         "small_holes_stay"}
     assert {"link_condition", "no_turn_over", "boundaries_stay"} <= {r.name for r in RULES if not r.relaxes}
 
 
