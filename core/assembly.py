@@ -22,8 +22,9 @@ in the part's own units, with the part's own attributes only. A part with no fac
 
 What the parts must share, because the run has one value of it: every scalar option
 (rules, seed, ...; the line weight is per vertex), but the exponents of importance, which
-only the parts with importance must share (SCALED_ONLY). Painted limits and max_error are not combined: the
-tracked distance finds the closest source point, which may lie on another part.
+only the parts with importance must share (SCALED_ONLY). Painted limits and max_error are
+not combined: the tracked distance finds the closest source point, which may lie on
+another part.
 """
 from __future__ import annotations
 

@@ -556,8 +556,8 @@ def _unstick(s: State, p: Problem, target: int):
     # Rule small_holes_stay, last: a hole of three border edges closes by collapsing one of
     # them (core.validation). Blender's Decimate closes them too; a CAD part's cracks and
     # pin holes end as such triangles, and each holds three vertices on the border (a
-    # 1,654-triangle engine part, body_12, stopped at 279 for 165, 35 of its 45 holes
-    # three edges long). Only here, so no run that reaches its target changes.
+    # 1,654-triangle engine part, body_12, stopped at 279 for 165 with 45 holes, 35 of
+    # them down to three edges). Only here, so no run that reaches its target changes.
     if not s.close_holes and topology.has_triangular_holes(s.conn):
         s.close_holes = True
         _forget_rejections(s, keep_limits=True)
