@@ -67,9 +67,6 @@ def no_importance_note(reason: str) -> str:
     return f"no importance ({reason})"
 
 
-NO_KEYS_NOTE = no_importance_note("no shape keys")
-
-
 def shape_key_importance_of(obj) -> np.ndarray:
     """Importance g in [0, 1] per vertex of ``obj``'s own mesh (not the modifier result)
     from its shape keys (importance.shape_key_importance); LodError when it has none."""
