@@ -167,8 +167,7 @@ def test_five_hundred_bolts_reach_the_target(ratio):
 
 def test_small_holes_stay_open_while_the_target_allows():
     """A sphere with 35 holes of three edges (pin holes, cracks a CAD export leaves): at
-    25 % every hole is still there, three border edges each, and no relaxation was
-    needed to keep them."""
+    25 % every hole is still there, three border edges each."""
     V, F, holes = build.holed_sphere()
     assert check.boundary_loops(F) == holes
     r = core.simplify(V, F, ratio=0.25)
