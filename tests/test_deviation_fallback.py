@@ -22,3 +22,14 @@ def test_the_ladder_gives_levels_within_their_bounds_when_the_bound_finds_none(r
             assert level["hausdorff_percent"] <= level["requested_deviation_percent"], (name, level)
             assert level["triangles"] < res["source_triangles"], (name, level)
         assert levels[0]["triangles"] > levels[1]["triangles"], (name, levels)
+
+
+def test_a_level_the_bound_kept_far_under_its_deviation_gives_way_to_a_coarser_count(res):
+    """deviation_search.probe_below (issue 33 §3): the tracked distance over-estimates
+    across a bevel, so the bound stops the box well under 1 %; a run by count measures
+    coarser levels within it, and the coarsest kept is measured within STRETCH_WITHIN."""
+    probe = res["probe"]
+    off, on = probe["off"], probe["on"]
+    assert off["hausdorff_percent"] < probe["probe_below"] * off["requested_deviation_percent"], probe
+    assert on["triangles"] < off["triangles"] < probe["source_triangles"], probe
+    assert on["hausdorff_percent"] <= probe["stretch_within"] * on["requested_deviation_percent"], probe

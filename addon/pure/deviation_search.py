@@ -116,7 +116,8 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     the artist's controls, lean and the planes' placement (the fewer triangles win,
     deviation_targets.alternatives); for a deviation it does not meet, the ladder: per
     requested deviation the coarsest rung measured within it (deviation_targets.
-    choose_levels), refined between rungs. A deviation neither meets is left out with a
+    choose_levels), refined between rungs. A level measured far under its deviation is
+    probed by count below it (probe_below). A deviation none meets is left out with a
     warning, and none met is a LodError.
 
     ``simplify(targets, **options)``: the core run on ``lod_input`` (compute.py's, which
@@ -157,6 +158,13 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
                 f.level = other[0]
                 measured[id(other[0])] = other[1]
         deviation_targets.coarser_each(found)
+
+    def quick(level):
+        report_progress(simplify_share)
+        return quick_hausdorff(data, level)
+
+    probe_below(found, lambda counts: simplify_with_progress(
+        lod_input, counts, lambda _: report_progress(simplify_share) is None), quick, exact)
     kept = [f for f in found if f.level is not None]
     for f in found:
         if f.level is None and lod_input.in_asset:
@@ -248,6 +256,38 @@ def _refine(lod_input, within, within_report, beyond, deviation, report_progress
     return levels[choice.level], reports[choice.level]
 
 
+def probe_below(found: list, run_counts, quick, exact) -> None:
+    """Each level of ``found`` (Found, the searches' levels within their deviations, each
+    coarser than the one before) that deviation_targets.probe_counts probes below:
+    ``run_counts(counts)`` (a run by count, the controls' options) snapshots those
+    counts, and the coarsest of them measured within STRETCH_WITHIN of the deviation
+    replaces it. ``quick(level)`` steers the bisection, ``exact(level)`` is the report's
+    measurement (deviation_targets.Search). The finest count is run and estimated first:
+    where it is beyond, the coarser ones are not run (a run to half the triangles of a
+    level near its source's count is most of a whole run: the engine's parts at 0.05 %)."""
+    for i, f in enumerate(found):
+        counts = deviation_targets.probe_counts(found, i)
+        if not counts:
+            continue
+        bound = deviation_targets.STRETCH_WITHIN * f.deviation
+        levels = run_counts(counts[:1])
+        first = quick(levels[0])
+        if first > bound:
+            continue
+        levels += run_counts(counts[1:]) if len(counts) > 1 else []
+        choice = deviation_targets.Search(lambda k: quick(levels[k]), lambda k: exact(levels[k]),
+                                          measured={0: first}).coarsest_within(bound, len(levels))
+        if choice.level is not None and len(levels[choice.level].faces) < len(f.level.faces):
+            f.level, f.hausdorff = levels[choice.level], choice.hausdorff
+
+
+def quick_hausdorff(data, level) -> float:
+    """``level``'s two-sided Hausdorff distance to the source ``data``, estimated with
+    QUICK_SAMPLES (what steers a bisection; the level kept is measured as reported)."""
+    return measure.surface_deviation(data.vertices, data.faces, level.vertices, level.faces,
+                                     n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+
+
 def _measurers(data, levels: list, tick) -> tuple:
     """(quick(i), exact(i), reports): level i's two-sided Hausdorff distance to the source,
     estimated with fewer samples or measured as the report measures it (its full report
@@ -256,8 +296,7 @@ def _measurers(data, levels: list, tick) -> tuple:
 
     def quick(i):
         tick()
-        return measure.surface_deviation(data.vertices, data.faces, levels[i].vertices, levels[i].faces,
-                                         n_samples=deviation_targets.QUICK_SAMPLES)["hausdorff"]
+        return quick_hausdorff(data, levels[i])
 
     def exact(i):
         tick()

@@ -1,5 +1,6 @@
 """LODs by deviation when the core's tracked bound finds nothing (issue 22): the ladder
-takes over (tests/test_deviation_fallback.py checks what this returns)."""
+takes over; and where the level it finds measures far under the bound, a run by count
+probes below it (tests/test_deviation_fallback.py checks what this returns)."""
 import bpy
 from scene_tools import extension_module, remove_all_objects
 
@@ -29,4 +30,32 @@ def run() -> dict:
                      for r in output.reports]
     out["fallback_calls"] = calls
     out["source_triangles"] = sum(len(p.vertices) - 2 for p in ob.data.polygons)
+    out["probe"] = _bevelled_box_at_one_percent(lod, targets)
+    return out
+
+
+def _bevelled_box_at_one_percent(lod, targets) -> dict:
+    """A long box with bevelled edges (bench/blender_props.py's bevel_box_long) by
+    deviation at 1 %, without the probe below the tracked level (PROBE_BELOW 0) and with it."""
+    remove_all_objects()
+    bpy.ops.mesh.primitive_cube_add(size=1)
+    ob = bpy.context.active_object
+    ob.scale = (3, 0.6, 0.3)
+    bpy.ops.object.transform_apply(scale=True)
+    bevel = ob.modifiers.new("Bevel", "BEVEL")
+    bevel.width, bevel.segments = 0.05, 5
+    bpy.ops.object.modifier_apply(modifier=bevel.name)
+    while ob.data.uv_layers:  # (as bench/equal_error.py has it: its seams would hold the box at 16)
+        ob.data.uv_layers.remove(ob.data.uv_layers[0])
+    out = {"source_triangles": sum(len(p.vertices) - 2 for p in ob.data.polygons),
+           "probe_below": targets.PROBE_BELOW, "stretch_within": targets.STRETCH_WITHIN}
+    default = targets.PROBE_BELOW
+    for name, below in (("off", 0.0), ("on", default)):
+        targets.PROBE_BELOW = below
+        try:
+            output = lod.compute(lod.prepare(bpy.context.scene, ob, lod.LodSettings(max_deviations=((1.0, True),))))
+        finally:
+            targets.PROBE_BELOW = default
+        (report,) = output.reports
+        out[name] = {key: report[key] for key in ("triangles", "hausdorff_percent", "requested_deviation_percent")}
     return out
