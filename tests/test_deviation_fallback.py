@@ -33,3 +33,14 @@ def test_a_level_the_bound_kept_far_under_its_deviation_gives_way_to_a_coarser_c
     assert off["hausdorff_percent"] < probe["probe_below"] * off["requested_deviation_percent"], probe
     assert on["triangles"] < off["triangles"] < probe["source_triangles"], probe
     assert on["hausdorff_percent"] <= probe["stretch_within"] * on["requested_deviation_percent"], probe
+
+
+def test_an_alternative_saving_under_a_tenth_is_kept_where_it_costs_nothing(res):
+    """deviation_targets.fewest_each with slivers (issue 33 §3): the bevelled cylinder's
+    planes' placement at 1 % saves under a tenth of the controls' triangles, with no
+    larger share of slivers and a margin to its bound: kept."""
+    free = res["free_saving"]
+    off, on = free["off"], free["on"]
+    assert on["triangles"] < off["triangles"] < on["triangles"] / (1.0 - free["min_saving"]), free
+    assert on["sliver_percent"] <= off["sliver_percent"], free
+    assert on["hausdorff_percent"] <= free["stretch_within"] * on["requested_deviation_percent"], free

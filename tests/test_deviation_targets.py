@@ -179,6 +179,32 @@ def test_each_deviation_keeps_the_lean_run_where_it_saves_a_tenth():
     assert len(kept[0].level.faces) == 400 and kept[1].level is None
 
 
+def test_a_smaller_saving_is_kept_where_it_costs_no_slivers_and_no_margin():
+    """fewest_each with ``slivers``: a level under a tenth fewer triangles replaces the
+    controls' where its share of slivers is no larger and it measures within
+    STRETCH_WITHIN of its deviation; otherwise the tenth still decides."""
+    def found(deviation, faces, share, slivers):
+        level = SimpleNamespace(faces=np.zeros((faces, 3), dtype=np.int64), slivers=slivers)
+        return dt.Found(deviation, level, share * deviation)
+
+    def slivers(level):
+        return level.slivers
+
+    mine = [found(1.0, 100, 0.9, 30.0), found(2.0, 80, 0.9, 30.0), found(4.0, 60, 0.9, 30.0),
+            found(8.0, 40, 0.9, 30.0), found(16.0, 20, 0.9, 30.0)]
+    other = [found(1.0, 95, 0.9, 28.8),  # fewer, fewer slivers, with margin: kept
+             found(2.0, 76, 0.9, 30.5),  # more slivers
+             found(4.0, 58, 0.99, 20.0),  # just under its bound
+             found(8.0, 40, 0.5, 0.0),  # no fewer triangles
+             found(16.0, 10, 0.99, 90.0)]  # half the triangles: the tenth decides
+    kept = dt.fewest_each(mine, other, slivers=slivers)
+    assert [len(f.level.faces) for f in kept] == [95, 80, 60, 40, 10]
+    assert kept[0].hausdorff == 0.9 and kept[0].level.slivers == 28.8
+    # Without ``slivers`` only the tenth counts.
+    mine = [found(1.0, 100, 0.9, 30.0)]
+    assert len(dt.fewest_each(mine, [found(1.0, 95, 0.9, 28.8)])[0].level.faces) == 100
+
+
 def test_a_part_of_an_asset_is_measured_by_its_area_share_and_its_size():
     """deviation_search.part_samples (issue 32 §2): a part gets its share of the asset's
     samples, at least one a triangle up to ASSET_PART_SAMPLES_MIN, so that an asset of

@@ -148,7 +148,7 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         # Lean, then the planes' placement (deviation_targets.alternatives): fewer
         # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING.
         for variant in deviation_targets.alternatives({"line_weight": options.line_weight}, options.min_quality):
-            found = deviation_targets.fewest_each(found, tracked(variant))
+            found = deviation_targets.fewest_each(found, tracked(variant), slivers=sliver_share)
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -281,6 +281,11 @@ def probe_below(found: list, run_counts, quick, exact) -> None:
             f.level, f.hausdorff = levels[choice.level], choice.hausdorff
 
 
+def sliver_share(level) -> float:
+    """A level's share of slivers, in percent (core.quality_summary)."""
+    return core.quality_summary(level.vertices, level.faces)["sliver_percent"]
+
+
 def quick_hausdorff(data, level) -> float:
     """``level``'s two-sided Hausdorff distance to the source ``data``, estimated with
     QUICK_SAMPLES (what steers a bisection; the level kept is measured as reported)."""
@@ -350,7 +355,8 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
         # As by_deviation: lean, then the planes' placement, each where it saves a tenth.
         for variant in deviation_targets.alternatives({"line_weights": options.line_weights}, options.min_quality):
             found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
-                deviations, lambda bounds, requested, variant=variant: run(bounds, requested, **variant), exact))
+                deviations, lambda bounds, requested, variant=variant: run(bounds, requested, **variant), exact),
+                slivers=sliver_share)
     # A level no run met repeats the one before, the whole asset at LOD1, as a part of
     # an asset does in its own search (by_deviation): every part is in every level.
     previous = None
