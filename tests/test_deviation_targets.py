@@ -164,9 +164,10 @@ def test_tracked_bounds_keep_each_level_coarser_than_the_one_before():
     assert found[0].level is not None and found[1].level is None
 
 
-def _found(deviation, faces):
+def _found(deviation, faces, share=0.5):
+    """A Found of ``faces`` triangles (None: no level) measured at ``share`` of its deviation."""
     level = None if faces is None else SimpleNamespace(faces=np.zeros((faces, 3), dtype=np.int64))
-    return dt.Found(deviation, level, float("nan") if faces is None else 0.5 * deviation)
+    return dt.Found(deviation, level, float("nan") if faces is None else share * deviation)
 
 
 def test_each_deviation_keeps_the_lean_run_where_it_saves_a_tenth():
@@ -245,16 +246,11 @@ def test_the_search_climbs_from_seeds_in_proportion_to_a_level_samples(monkeypat
     assert seeds == [ds.SEARCH_CLIMB_SEEDS, ds.SEARCH_CLIMB_SEEDS // 2, ds.SEARCH_CLIMB_SEEDS // 4, measure.CLIMB_SEEDS]
 
 
-def _measured(deviation, faces, share):
-    level = SimpleNamespace(faces=np.zeros((faces, 3), dtype=np.int64))
-    return dt.Found(deviation, level, share * deviation)
-
-
 def test_a_level_measured_far_under_its_bound_is_probed_by_count_down_to_the_next():
     """probe_counts: below a level the tracked bound kept at under PROBE_BELOW of its
     deviation, decreasing counts down to PROBE_SHARE of its triangles, all coarser than
     the next level kept; none for a level measured close to its bound."""
-    found = [_measured(1.0, 1000, 0.5), _measured(2.0, 700, 0.6), _measured(4.0, 200, 0.9), _measured(8.0, 60, 0.3)]
+    found = [_found(1.0, 1000, 0.5), _found(2.0, 700, 0.6), _found(4.0, 200, 0.9), _found(8.0, 60, 0.3)]
     first = dt.probe_counts(found, 0)
     assert first == sorted(first, reverse=True) and len(set(first)) == len(first)
     assert first[0] < 1000 and first[-1] == 701, "down to the next level kept, never to it"
@@ -263,8 +259,8 @@ def test_a_level_measured_far_under_its_bound_is_probed_by_count_down_to_the_nex
     assert dt.probe_counts(found, 2) == [], "measured at 0.9 of its bound: nothing to probe"
     last = dt.probe_counts(found, 3)
     assert last[-1] == 30 and all(c < 60 for c in last)
-    assert dt.probe_counts([_measured(1.0, 5, 0.1)], 0) == [dt.LADDER_FLOOR], "a tetrahedron at least"
-    assert dt.probe_counts([_measured(1.0, 10, 0.1), _measured(2.0, 9, 0.5)], 0) == [], "no count between"
+    assert dt.probe_counts([_found(1.0, 5, 0.1)], 0) == [dt.LADDER_FLOOR], "a tetrahedron at least"
+    assert dt.probe_counts([_found(1.0, 10, 0.1), _found(2.0, 9, 0.5)], 0) == [], "no count between"
     assert dt.probe_counts([dt.Found(1.0, None, float("nan"))], 0) == []
 
 
@@ -283,7 +279,7 @@ def test_the_probe_keeps_the_coarsest_count_measured_within_stretch_of_the_bound
     def distance(level):  # grows as the count falls: the bound 1.0 at 100 triangles
         return 100.0 / len(level.faces)
 
-    found = [_measured(1.0, 200, 0.5), _measured(4.0, 40, 0.9)]
+    found = [_found(1.0, 200, 0.5), _found(4.0, 40, 0.9)]
     counts = dt.probe_counts(found, 0)
     ds.probe_below(found, run_counts, distance, distance)
     assert runs == [counts[:1], counts[1:]], "the finest count first; the second level is close to its bound"
@@ -292,7 +288,7 @@ def test_the_probe_keeps_the_coarsest_count_measured_within_stretch_of_the_bound
     assert found[0].hausdorff == 100.0 / kept and len(found[1].level.faces) == 40
     # Nothing below is within: the level stays as the tracked bound kept it.
     runs.clear()
-    found = [_measured(1.0, 200, 0.5)]
+    found = [_found(1.0, 200, 0.5)]
     ds.probe_below(found, run_counts, lambda level: 2.0, lambda level: 2.0)
     assert len(found[0].level.faces) == 200 and found[0].hausdorff == 0.5
     assert runs == [counts[:1]], "the finest count beyond: the coarser ones are not run"

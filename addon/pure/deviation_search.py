@@ -146,7 +146,8 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     options = lod_input.core_options
     if options.line_weights is None and options.pose_offsets is None:
         # Lean, then the planes' placement (deviation_targets.alternatives): fewer
-        # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING.
+        # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING, or
+        # less with no larger share of slivers (deviation_targets.fewest_each).
         for variant in deviation_targets.alternatives({"line_weight": options.line_weight}, options.min_quality):
             found = deviation_targets.fewest_each(found, tracked(variant), slivers=sliver_share)
     if any(f.level is None for f in found):
@@ -155,7 +156,7 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         for f in found:
             other = ladder.get(f.deviation)
             if other is not None and (f.level is None or len(other[0].faces) < len(f.level.faces)):
-                f.level = other[0]
+                f.level, f.hausdorff = other[0], other[1]["hausdorff"]
                 measured[id(other[0])] = other[1]
         deviation_targets.coarser_each(found)
 
@@ -352,7 +353,8 @@ def by_deviation_together(inputs: list, scales: list, copies: list, deviations: 
 
     found = deviation_targets.by_tracked_bounds(deviations, run, exact)
     if all(i.core_options.line_weights is None and i.core_options.pose_offsets is None for i in inputs):
-        # As by_deviation: lean, then the planes' placement, each where it saves a tenth.
+        # As by_deviation: lean, then the planes' placement, each where it saves a tenth
+        # (or less, with no larger share of slivers).
         for variant in deviation_targets.alternatives({"line_weights": options.line_weights}, options.min_quality):
             found = deviation_targets.fewest_each(found, deviation_targets.by_tracked_bounds(
                 deviations, lambda bounds, requested, variant=variant: run(bounds, requested, **variant), exact),

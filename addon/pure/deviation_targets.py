@@ -86,11 +86,12 @@ LEAN_MIN_QUALITY = 0.5  # times the sliver floor
 # triangles are worth a real saving. On organic meshes it saved 1-9 % and had up to three
 # times Decimate's slivers (beast and the bunny at 1 %: 9.6-9.8 % against 3.3-3.6 %).
 LEAN_MIN_SAVING = 0.1
-# A smaller saving is kept where it costs nothing: the level has no larger share of
-# slivers than the one it replaces, and measures within STRETCH_WITHIN of its deviation
-# (a level measured just under its bound is the one measuring's luck most often flatters).
-# bench/blender_props.py --equal-error: the bevelled cylinder at 1 % 72 -> 66 triangles
-# (planes' placement, 30.6 -> 28.8 % slivers), the cone at 1 % 46 -> 44.
+# A smaller saving is kept where it costs nothing (fewest_each with ``slivers``): the
+# level has no larger share of slivers than the one it replaces, and measures within
+# STRETCH_WITHIN of its deviation (a level measured just under its bound is the one
+# measuring's luck most often flatters). bench/blender_props.py --equal-error: the
+# bevelled cylinder at 1 % 72 -> 66 triangles (the planes' placement, 30.6 -> 28.8 %
+# slivers), the cone at 1 % 46 -> 44.
 # A third run places each merged vertex by its planes (core.Options.plane_placement), kept
 # as lean is, where it saves LEAN_MIN_SAVING of the triangles: where the planes leave a
 # direction free (a cap, a straight wall) the line quadrics place a merge, and on the

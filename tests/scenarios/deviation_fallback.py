@@ -1,6 +1,7 @@
 """LODs by deviation when the core's tracked bound finds nothing (issue 22): the ladder
-takes over; and where the level it finds measures far under the bound, a run by count
-probes below it (tests/test_deviation_fallback.py checks what this returns)."""
+takes over; where the level it finds measures far under the bound, a run by count probes
+below it; and an alternative run's smaller saving is kept where it costs no slivers
+(tests/test_deviation_fallback.py checks what this returns)."""
 import bpy
 from scene_tools import extension_module, remove_all_objects
 
