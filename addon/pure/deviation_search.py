@@ -117,7 +117,8 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     deviation_targets.alternatives); for a deviation it does not meet, the ladder: per
     requested deviation the coarsest rung measured within it (deviation_targets.
     choose_levels), refined between rungs. A level measured far under its deviation is
-    probed by count below it (probe_below). A deviation none meets is left out with a
+    probed by count below it (probe_below). Neither that nor a smaller saving of an
+    alternative is taken under a painted limit. A deviation none meets is left out with a
     warning, and none met is a LodError.
 
     ``simplify(targets, **options)``: the core run on ``lod_input`` (compute.py's, which
@@ -144,12 +145,18 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
 
     found = tracked({})
     options = lod_input.core_options
+    # Under a painted limit neither a smaller saving of an alternative nor a run by count
+    # (probe_below) is taken: the first took the Face region of tests/test_addon_limits.py
+    # (limits in pixels, by deviation) to 1.17 of its limit, and a run by count holds a
+    # limit only with limits.held_to_limit's measuring, which the probe does not do.
+    free_saving = sliver_share if lod_input.limit is None else None
     if options.line_weights is None and options.pose_offsets is None:
         # Lean, then the planes' placement (deviation_targets.alternatives): fewer
         # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING, or
-        # less with no larger share of slivers (deviation_targets.fewest_each).
+        # less with no larger share of slivers (deviation_targets.fewest_each; not under
+        # a painted limit: free_saving).
         for variant in deviation_targets.alternatives({"line_weight": options.line_weight}, options.min_quality):
-            found = deviation_targets.fewest_each(found, tracked(variant), slivers=sliver_share)
+            found = deviation_targets.fewest_each(found, tracked(variant), slivers=free_saving)
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
@@ -164,8 +171,9 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
         report_progress(simplify_share)
         return quick_hausdorff(data, level)
 
-    probe_below(found, lambda counts: simplify_with_progress(
-        lod_input, counts, lambda _: report_progress(simplify_share) is None), quick, exact)
+    if lod_input.limit is None:
+        probe_below(found, lambda counts: simplify_with_progress(
+            lod_input, counts, lambda _: report_progress(simplify_share) is None), quick, exact)
     kept = [f for f in found if f.level is not None]
     for f in found:
         if f.level is None and lod_input.in_asset:
