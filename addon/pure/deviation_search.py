@@ -149,14 +149,14 @@ def by_deviation(lod_input, simplify, report_progress, simplify_share, simplify_
     # (probe_below) is taken: the first took the Face region of tests/test_addon_limits.py
     # (limits in pixels, by deviation) to 1.17 of its limit, and a run by count holds a
     # limit only with limits.held_to_limit's measuring, which the probe does not do.
-    free_saving = sliver_share if lod_input.limit is None else None
+    slivers = sliver_share if lod_input.limit is None else None
     if options.line_weights is None and options.pose_offsets is None:
         # Lean, then the planes' placement (deviation_targets.alternatives): fewer
         # triangles at the same distance, each kept where it saves LEAN_MIN_SAVING, or
         # less with no larger share of slivers (deviation_targets.fewest_each; not under
-        # a painted limit: free_saving).
+        # a painted limit).
         for variant in deviation_targets.alternatives({"line_weight": options.line_weight}, options.min_quality):
-            found = deviation_targets.fewest_each(found, tracked(variant), slivers=free_saving)
+            found = deviation_targets.fewest_each(found, tracked(variant), slivers=slivers)
     if any(f.level is None for f in found):
         ladder = _by_ladder(lod_input, simplify(lod_input.targets), report_progress, simplify_share,
                             simplify_with_progress)
