@@ -284,7 +284,7 @@ def probe_below(found: list, run_counts, quick, exact) -> None:
         if first > bound:
             continue
         levels += run_counts(counts[1:]) if len(counts) > 1 else []
-        choice = deviation_targets.Search(lambda k: quick(levels[k]), lambda k: exact(levels[k]),
+        choice = deviation_targets.Search(lambda k, at=levels: quick(at[k]), lambda k, at=levels: exact(at[k]),
                                           measured={0: first}).coarsest_within(bound, len(levels))
         if choice.level is not None and len(levels[choice.level].faces) < len(f.level.faces):
             f.level, f.hausdorff = levels[choice.level], choice.hausdorff
