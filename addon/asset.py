@@ -113,30 +113,49 @@ def mark(asset: Asset, reports: list) -> None:
                 ob[ASSET_PROP] = asset.name
 
 
-def key_importance(inputs: list, matrices: list) -> None:
+def key_importance(inputs: list, matrices: list, shared_reference: bool = True) -> None:
     """Source Shape Keys over an asset: every part's importance from one robust maximum of
     the keys' motion over all parts (importance.motion_reference), in scene units through
-    the largest scale each part is drawn at, rather than each mesh's own. ``inputs``: one
-    phases.LodInput per part (a mesh), ``matrices``: per part, its objects' world matrices
-    (as split_budget). Sets each keyed part's ``importance`` and core options; parts
-    without Source Shape Keys, or without keys, are left alone.
+    the largest scale each part is drawn at, rather than each mesh's own
+    (``shared_reference`` False: each mesh's own), and its strength scaled by the share of
+    the asset's surface the keys leave still (importance.key_strength: every part's area
+    as drawn, the parts without keys still). ``inputs``: one phases.LodInput per part (a
+    mesh), ``matrices``: per part, its objects' world matrices (as split_budget). Sets each
+    keyed part's ``importance`` and core options, and a note where the strength was scaled
+    down; parts without Source Shape Keys, or without keys, are left alone.
 
-    Why: importance says where the keys move the asset, in proportion to how far. Per
-    mesh, a part the keys barely move (teeth a smile shifts a millimetre) would get as
-    much importance as the face they shape, and the budget split would spend triangles on
-    it; over the asset it gets what its motion is worth."""
-    keyed = [(i, matrix_scale_max(placed)) for i, placed in zip(inputs, matrices)
+    Why one reference: importance says where the keys move the asset, in proportion to how
+    far. Per mesh, a part the keys barely move (teeth a smile shifts a millimetre) would
+    get as much importance as the face they shape, and the budget split would spend
+    triangles on it; over the asset it gets what its motion is worth. Why the asset's
+    still surface: a face plate the keys move all of takes its triangles from the rest of
+    the character, which they leave still (lod.prepare scales a mesh on its own by its own)."""
+    scales = [matrix_scale_max(placed) for placed in matrices]
+    keyed = [k for k, i in enumerate(inputs)
              if i.settings.importance_source == 'SHAPE_KEYS' and i.data.shape_keys]
-    if len(keyed) < 2:
-        return  # one keyed part: its own reference is the asset's
-    motions = [importance.key_motion(key_deviation.offsets_of(i.data)) for i, _ in keyed]
-    reference = importance.motion_reference(np.concatenate([m * scale for m, (_, scale) in zip(motions, keyed)]))
-    for moved, (i, scale) in zip(motions, keyed):
-        g = np.minimum(moved * scale / reference, 1.0) if reference > 0 else np.zeros(len(moved))
-        settings = i.settings
+    if not keyed:
+        return
+    offsets = {k: key_deviation.offsets_of(inputs[k].data) for k in keyed}
+    if shared_reference and len(keyed) > 1:  # one keyed part: its own reference is the asset's
+        moved = {k: importance.key_motion(offsets[k]) * scales[k] for k in keyed}
+        reference = importance.motion_reference(np.concatenate(list(moved.values())))
+        g_of = {k: np.minimum(m / reference, 1.0) if reference > 0 else np.zeros(len(m)) for k, m in moved.items()}
+    else:
+        g_of = {k: importance.shape_key_importance(offsets[k]) for k in keyed}
+    still = total = 0.0
+    for k, (i, placed) in enumerate(zip(inputs, matrices)):
+        g = g_of.get(k, np.zeros(len(i.data.vertices)))
+        part_still, part_total = importance.still_share(g, i.data.vertices, i.data.faces, scales[k])
+        still, total = still + part_still * len(placed), total + part_total * len(placed)
+    for k in keyed:
+        i, settings = inputs[k], inputs[k].settings
+        strength = importance.key_strength(settings.importance_strength, still, total)
+        note = importance.key_strength_note(settings.importance_strength, strength)
+        if note is not None:
+            i.warnings.append(note)
         i.core_options = core.Options.of(i.core_options, **importance.controls(
-            g, settings.line_weight, settings.importance_strength, keys=True))
-        i.importance = None if settings.importance_strength <= 0 else g
+            g_of[k], settings.line_weight, strength, keys=True))
+        i.importance = None if settings.importance_strength <= 0 else g_of[k]
 
 
 # A part's error curve goes down to this share of the asset's smallest level ratio: a

@@ -172,8 +172,8 @@ class LodJob:
         self._check_importance(objects, per_object)
         if self.asset is not None:
             _set_part_samples(self.inputs, self._matrices)
-        if self.asset is not None and ASSET_KEY_REFERENCE:
-            asset_set.key_importance(self.inputs, self._matrices)
+        if self.asset is not None:
+            asset_set.key_importance(self.inputs, self._matrices, shared_reference=ASSET_KEY_REFERENCE)
         # The asset's triangle count per level (a chain by triangles), split in run().
         self._asset_targets = None
         if self.asset is not None and per_object[0].deviation_chain() is None:

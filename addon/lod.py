@@ -33,6 +33,7 @@ from . import object_importance
 from . import rig
 from .commit import commit
 from .pure import deviation_targets
+from .pure import importance as imp
 from .pure import key_deviation
 from .pure import limits
 from .pure import measure
@@ -244,7 +245,15 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
         every = rig.sample_poses(source, data.group_names, core.skinning.SAMPLE_POSES + CHECK_POSES)
         poses, check_poses = every[:core.skinning.SAMPLE_POSES], every[core.skinning.SAMPLE_POSES:]
     skin_columns = rig.deform_columns(source, data.group_names)[1] if data.group_names else []
-    options, names = mesh_options(settings, data, skin_columns, g, poses)
+    run_settings = settings
+    if g is not None and settings.importance_source == 'SHAPE_KEYS' and asset is None:
+        # An asset's parts are scaled by the asset's still surface (asset.key_importance).
+        scaled = imp.key_strength(settings.importance_strength, *imp.still_share(g, data.vertices, data.faces))
+        note = imp.key_strength_note(settings.importance_strength, scaled)
+        if note is not None:
+            warnings.append(note)
+            run_settings = dataclasses.replace(settings, importance_strength=scaled)
+    options, names = mesh_options(run_settings, data, skin_columns, g, poses)
     limit = painted_limit(source, settings, data, reference, asset is not None, warnings, deviations)
     if limit is not None and limit[1] is not None:  # (pixels by triangles: per level, from a first run: compute)
         column, value, _ = limit

@@ -103,8 +103,10 @@ def importance_of(obj, settings, group_names, group_weights, key_offsets=None) -
 def importance_preview(obj, settings: LodSettings) -> tuple:
     """The effective importance of ``obj``'s vertices in [0, 1] (addon/pure/importance.py,
     ``effective``) under ``settings``, read from the object's own mesh (not the modifier
-    result, so it can be written back as a vertex group), and how many vertices count as
-    painted (g >= 0.5). Raises LodError when the settings name no importance."""
+    result, so it can be written back as a vertex group), how many vertices count as
+    painted (g >= 0.5), and the strength it is at (Source Shape Keys: scaled by the surface
+    the keys leave still, importance.key_strength). Raises LodError when the settings name
+    no importance."""
     if obj is None or getattr(obj, "type", None) != 'MESH':
         raise LodError("Make a mesh object active")
     if settings.importance_source == 'NONE':
@@ -112,9 +114,15 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     if settings.importance_source == 'ARMATURE':
         raise LodError("Source Armature works through sample poses of the rig, not a per-vertex importance: "
                        "there is nothing to preview (Armature (Paper) has one)")
+    strength = settings.importance_strength
     if settings.importance_source == 'SHAPE_KEYS':
         g = shape_key_importance_of(obj)
+        # As a run of the object alone scales it (lod.prepare): by the surface left still.
+        faces = mesh_io.triangles(obj.data)[0]
+        vertices = np.empty(3 * len(obj.data.vertices), dtype=np.float64)
+        obj.data.vertices.foreach_get("co", vertices)
+        strength = imp.key_strength(strength, *imp.still_share(g, vertices.reshape(-1, 3), faces))
     else:
         names = obj.vertex_groups.keys()
         g = importance_of(obj, settings, names, vertex_groups.read_weights(obj.data, names, all_names=names))
-    return imp.effective(g, settings.importance_strength), int(np.count_nonzero(g >= imp.PAINTED))
+    return imp.effective(g, strength), int(np.count_nonzero(g >= imp.PAINTED)), strength

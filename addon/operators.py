@@ -15,7 +15,7 @@ import numpy as np
 import bpy
 
 from . import deviation_view, lod_objects, mesh_io, object_importance, vertex_groups
-from .pure.importance import expected_gain
+from .pure.importance import expected_gain, key_strength_note
 from .job import LodJob
 from .pure.settings import LodCancelled, LodError, LodSettings
 from .props import settings_properties
@@ -397,7 +397,7 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
         written = self.write_group(ob, PREVIEW_GROUP, lambda: object_importance.importance_preview(ob, settings))
         if written is None:
             return {'CANCELLED'}
-        effective, painted = written
+        effective, painted, strength = written
         # Shown, not selected for the LODs: the panel keeps reading the painted group.
         ob.vertex_groups.active_index = ob.vertex_groups[PREVIEW_GROUP].index
         if ob.mode != 'WEIGHT_PAINT':
@@ -406,10 +406,12 @@ class OBJECT_OT_line_quadric_lod_preview_importance(_ImportanceOperator, bpy.typ
             except RuntimeError as ex:
                 self.report({'WARNING'}, f'"{PREVIEW_GROUP}" written; Weight Paint mode failed: {ex}')
                 return {'FINISHED'}
+        scaled = key_strength_note(settings.importance_strength, strength)
         self.report({'INFO'}, f'"{PREVIEW_GROUP}": {painted:,} of {len(effective):,} vertices painted; at strength '
-                              f'{settings.importance_strength:.2f} they should come out about '
-                              f'{expected_gain(settings.importance_strength):.1f}x as dense as the rest '
-                              f'(preview only: paint "{settings.importance_group or IMPORTANCE_GROUP}")')
+                              f'{strength:.2f} they should come out about '
+                              f'{expected_gain(strength):.1f}x as dense as the rest '
+                              + (f'({scaled})' if scaled else
+                                 f'(preview only: paint "{settings.importance_group or IMPORTANCE_GROUP}")'))
         return {'FINISHED'}
 
 

@@ -155,3 +155,20 @@ def test_importance_is_normalised_over_the_asset_in_scene_units(res):
     assert small["quadric_max"] < 1.5
     for entry in pebble.values():
         assert entry["ball_max"] == pytest.approx(1.0)
+
+
+def test_keys_that_move_the_whole_surface_take_no_triangles_from_it(res):
+    # Importance moves triangles from where the keys leave the surface still; with nothing
+    # still, it would only move detail around inside the keys' own region (the robot's
+    # face plate alone: 1.24x further at each key, 1.36x at rest). Alone, the strength
+    # comes down to nothing, the note says so, and the LOD is the one without importance.
+    everywhere = res["everywhere"]
+    assert everywhere["SHAPE_KEYS"]["co"] == everywhere["NONE"]["co"]
+    notes = [w for w in everywhere["SHAPE_KEYS"]["warnings"] if "the shape keys move all of the surface" in w]
+    assert len(notes) == 1 and "strength 0.5 -> 0" in notes[0], everywhere["SHAPE_KEYS"]["warnings"]
+    assert not any("shape keys move" in w for w in everywhere["NONE"]["warnings"])
+    assert everywhere["preview"] == {"largest": 0.0, "strength": 0.0}
+    # Beside a larger part the keys leave still, in one asset, it takes its triangles from
+    # that part: the asset's still surface counts, and the importance is in full.
+    asset = everywhere["asset"]
+    assert asset["quadric_max"] > 5.0 and not any("shape keys move" in w for w in asset["warnings"]), asset

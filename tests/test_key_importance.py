@@ -211,3 +211,28 @@ def test_core_weighs_the_keys_more_with_their_exponent():
                           alike.faces)
     with pytest.raises(ValueError, match="key_scale_exponent"):
         core.simplify(V, F, ratio=0.1, key_scale_exponent=-1.0)
+
+
+def test_still_share_counts_faces_the_keys_leave_still_at_every_corner():
+    # Two unit right triangles side by side (area 0.5 each) and one twice as large.
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [3, 0, 0], [3, 2, 0.0]])
+    faces = np.array([[0, 1, 2], [1, 3, 2], [1, 4, 5]])
+    g = np.zeros(6)
+    assert imp.still_share(g, vertices, faces) == pytest.approx((3.0, 3.0))
+    g[5] = imp.KEY_STILL  # one corner at the threshold: that face moves
+    assert imp.still_share(g, vertices, faces) == pytest.approx((1.0, 3.0))
+    g[2] = 0.5 * imp.KEY_STILL  # below it: still
+    assert imp.still_share(g, vertices, faces) == pytest.approx((1.0, 3.0))
+    assert imp.still_share(g, vertices, faces, scale=2.0) == pytest.approx((4.0, 12.0))  # areas in scene units
+    assert imp.still_share(g, vertices, np.zeros((0, 3), dtype=int)) == (0.0, 0.0)
+
+
+def test_key_strength_is_full_from_half_the_surface_still_and_none_without():
+    assert imp.key_strength(0.5, 6.0, 10.0) == 0.5
+    assert imp.key_strength(0.5, imp.KEY_STILL_FULL * 10.0, 10.0) == pytest.approx(0.5)
+    assert imp.key_strength(0.5, 0.5 * imp.KEY_STILL_FULL * 10.0, 10.0) == pytest.approx(0.25)
+    assert imp.key_strength(0.8, 0.0, 10.0) == 0.0
+    assert imp.key_strength(0.8, 0.0, 0.0) == pytest.approx(0.8)  # no surface: nothing to say
+    assert imp.key_strength_note(0.5, 0.5) is None
+    assert "move all of the surface" in imp.key_strength_note(0.5, 0.0)
+    assert "move most of the surface" in imp.key_strength_note(0.5, 0.2)

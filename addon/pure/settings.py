@@ -82,7 +82,8 @@ IMPORTANCE_SOURCES = (
     ('SHAPE_KEYS', "Shape Keys",
      "From the shape keys: vertices the keys move are kept denser, the more the farther "
      "they move (importance 1 from the largest movements on, fading to 0 where no key "
-     "moves), so expressions and correctives stay close on every LOD"),
+     "moves), so expressions and correctives stay close on every LOD. The triangles come "
+     "from where the keys leave the surface still: the less of it, the weaker"),
 )
 TARGET_KINDS = (
     ('COUNT', "Triangles", "A share of the source's triangles (Ratio) or a triangle count"),

@@ -181,6 +181,49 @@ def several(ball, plain) -> dict:
     return out
 
 
+def swelling(radius: float = 1.0, location=(0, -4, 0)):
+    """An icosphere whose key "Swell" moves every vertex outwards, the top three times as
+    far as the bottom: keys that leave no part of the surface still."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=radius, location=location)
+    ob = bpy.context.active_object
+    ob.name = "Swelling"
+    co = array(ob.data.vertices, "co", 3).reshape(-1, 3).astype(np.float64)
+    swell = co * (1.0 + 0.05 * (2.0 + co[:, 2] / radius))[:, None]
+    ob.shape_key_add(name="Basis", from_mix=False)
+    ob.shape_key_add(name="Swell", from_mix=False).data.foreach_set("co", swell.astype(np.float32).ravel())
+    bpy.context.view_layer.update()
+    return ob
+
+
+def everywhere() -> dict:
+    """Source Shape Keys where the keys move the whole surface: alone (the strength comes
+    down to nothing, with a note: the LOD is the one without importance), beside a larger
+    still part as one asset (the asset's still surface: full strength), and the preview."""
+    lod = extension_module("addon.lod")
+    job_mod = extension_module("addon.job")
+    object_importance = extension_module("addon.object_importance")
+    ob = swelling()
+    out = {}
+    for source in ('NONE', 'SHAPE_KEYS'):
+        report = lod.generate_lods(bpy.context, ob, lod.LodSettings(
+            ratios=(0.25,), importance_source=source, measure_deviation=False))
+        lod_ob = bpy.data.objects[report["levels"][0]["name"]]
+        out[source] = {"co": array(lod_ob.data.vertices, "co", 3).reshape(-1, 3).tolist(),
+                       "warnings": report["warnings"]}
+    effective, _, strength = object_importance.importance_preview(ob, lod.LodSettings(importance_source='SHAPE_KEYS'))
+    out["preview"] = {"largest": float(np.max(effective)), "strength": strength}
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=3.0, location=(0, -12, 0))
+    still = bpy.context.active_object
+    still.name = "StillPart"
+    job = job_mod.LodJob(bpy.context, [ob, still], lod.LodSettings(
+        ratios=(0.25,), importance_source='SHAPE_KEYS', measure_deviation=False))
+    out["asset"] = {"quadric_max": float(np.max(job.inputs[0].core_options.quadric_scale)),
+                    "warnings": list(job.inputs[0].warnings)}
+    for o in (ob, still):
+        bpy.data.objects.remove(o)
+    return out
+
+
 def run() -> dict:
     remove_all_objects()
     ball = keyed_sphere()
@@ -198,4 +241,5 @@ def run() -> dict:
         "panel": panel(ball, plain),
         "bake": bake(ball),
         "several": several(ball, plain),
+        "everywhere": everywhere(),
     }
