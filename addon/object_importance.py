@@ -15,6 +15,7 @@ from . import vertex_groups
 from .pure import importance as imp
 from .pure import key_deviation
 from .pure.settings import LodError, LodSettings
+from .pure.wording import quoted_names
 from .rig import deform_columns, skinned_columns
 
 
@@ -32,8 +33,7 @@ def no_shape_keys(obj) -> str:
 
 def none_has_source(settings: LodSettings, names: list) -> str:
     """The message for an importance source that none of several objects has."""
-    shown = ", ".join(f'"{n}"' for n in names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
-    of = f"none of the {len(names)} objects ({shown})"
+    of = f"none of the {len(names)} objects ({quoted_names(names)})"
     source = settings.importance_source
     if source == 'SHAPE_KEYS':
         return (f"Source Shape Keys: {of} has shape keys: add some "

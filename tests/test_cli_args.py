@@ -218,6 +218,20 @@ def test_table_shows_the_worst_shape_key_when_keys_were_measured():
     assert "Worst key" not in report.format_table(without)
 
 
+def test_a_note_several_objects_share_is_printed_once(capsys):
+    # Six copies of an instanced bolt share their mesh's note; the report keeps it per object.
+    kept = "kept whole at LOD1 (the asset's budget is spent where it lowers the error more)"
+    objects = [{"object": f"Bolt.{i:03d}", "levels": [], "warnings": [kept]} for i in range(6)]
+    objects.append({"object": "Base", "levels": [], "warnings": ["no importance (no shape keys)", kept]})
+    assert report.object_notes(objects) == {kept: [o["object"] for o in objects],
+                                            "no importance (no shape keys)": ["Base"]}
+    report.print_results({"files": [{"label": "bolts.blend", "warnings": [], "objects": objects, "outputs": []}],
+                          "failures": [], "seconds": 1.0})
+    notes = [line for line in capsys.readouterr().out.splitlines() if line.startswith("note: ")]
+    assert notes == [f"note: bolts.blend: Bolt.000, Bolt.001, Bolt.002, Bolt.003 and 3 more: {kept}",
+                     "note: bolts.blend: Base: no importance (no shape keys)"]
+
+
 def test_from_shape_keys_is_a_switch():
     assert parse("--input", "a.obj").from_shape_keys is False
     assert parse("--input", "a.obj", "--from-shape-keys").from_shape_keys is True

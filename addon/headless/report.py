@@ -233,6 +233,23 @@ def format_table(files: list) -> str:
     return _aligned(header, rows, left={0, 1, 2})
 
 
+# A note several objects share is printed once, naming this many of them.
+NOTE_NAMES = 4
+
+
+def object_notes(objects: list) -> dict:
+    """{note: the names of the objects that have it}, in the order first met, of an
+    input's object entries: the copies of an instanced part share their mesh's notes
+    (the report keeps them per object)."""
+    notes = {}
+    for obj in objects:
+        for warning in obj.get("warnings", []):
+            names = notes.setdefault(warning, [])
+            if obj["object"] not in names:
+                names.append(obj["object"])
+    return notes
+
+
 def print_results(report: dict) -> None:
     table = format_table(report["files"])
     if table:
@@ -247,9 +264,9 @@ def print_results(report: dict) -> None:
     for f in report["files"]:
         for warning in f["warnings"]:
             print(f"note: {f['label']}: {warning}")
-        for obj in f["objects"]:
-            for warning in obj.get("warnings", []):
-                print(f"note: {f['label']}: {obj['object']}: {warning}")
+        for warning, names in object_notes(f["objects"]).items():
+            print(f"note: {f['label']}: {', '.join(names[:NOTE_NAMES])}"
+                  f"{f' and {len(names) - NOTE_NAMES} more' if len(names) > NOTE_NAMES else ''}: {warning}")
     n = len(report["files"])
     failed = report["failures"]
     skipped = report.get("skipped", 0)

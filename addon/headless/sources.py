@@ -12,6 +12,7 @@ from .. import lod_objects
 from .. import mesh_io
 from .. import rig
 from .errors import InputError
+from ..pure.wording import quoted_names
 
 
 # Collection instances inside instanced collections are made real too, this many deep.
@@ -29,7 +30,10 @@ def make_instances_real(scene, view_layer) -> list:
     asset's budget counted the bolt once. As objects sharing one mesh, a part is
     simplified once and drawn, counted and switched per copy, as the glTF importer's
     shared meshes are (core.assembly). The copies are flattened under their empty: a
-    hierarchy inside the instanced collection becomes its world placement."""
+    hierarchy inside the instanced collection becomes its world placement.
+
+    One note per collection and round, naming its empties: a kitbash scene instances one
+    collection dozens of times."""
     from mathutils import Matrix
 
     notes = []
@@ -38,6 +42,7 @@ def make_instances_real(scene, view_layer) -> list:
                       if ob.instance_type == 'COLLECTION' and ob.instance_collection is not None]
         if not instancers:
             break
+        made_of = {}  # collection name -> (its empties' names, objects made per instance)
         for empty in instancers:
             coll = empty.instance_collection
             into_collection_space = Matrix.Translation(-coll.instance_offset)
@@ -51,8 +56,13 @@ def make_instances_real(scene, view_layer) -> list:
                     target.objects.link(copy)
                 made += 1
             empty.instance_type = 'NONE'
-            notes.append(f'"{empty.name}": its instance of collection "{coll.name}" made real '
-                         f'({made} object{"s" if made != 1 else ""} sharing their meshes)')
+            made_of.setdefault(coll.name, ([], made))[0].append(empty.name)
+        for name, (empties, made) in made_of.items():
+            empties = sorted(empties)
+            at = f"its instance by {quoted_names(empties)}" if len(empties) == 1 else \
+                f"its {len(empties)} instances by {quoted_names(empties)}"
+            notes.append(f'collection "{name}": {at} made real ({made} object{"s" if made != 1 else ""} '
+                         f'each, sharing their meshes)')
         view_layer.update()  # (the view layer lists newly linked objects once updated)
     return notes
 
