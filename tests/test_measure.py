@@ -399,6 +399,16 @@ def flapped(v, f) -> dict:
     return {"flap_v": np.concatenate([v, flap]), "flap_f": np.concatenate([f, [[len(v), len(v) + 1, len(v) + 2]]])}
 
 
+def strayed(v, f) -> dict:
+    """The plane with a zero-area face far above it (its corners on one line: a .blend
+    keeps such faces, the core drops them), and with a thin but real triangle there."""
+    stray = np.array([[0.5, 0.5, 5.0], [1.5, 0.5, 5.0], [1.0, 0.5, 5.0]])
+    thin = stray + [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1e-2, 0.0]]
+    faces = np.concatenate([f, [[len(v), len(v) + 1, len(v) + 2]]])
+    return {"stray_v": np.concatenate([v, stray]), "stray_f": faces,
+            "thin_v": np.concatenate([v, thin]), "thin_f": faces}
+
+
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("measure")
@@ -412,7 +422,7 @@ def measured(tmp_path_factory):
              fine_v=fine_v, fine_f=fine_f, coarse_v=coarse_v, coarse_f=coarse_f,
              empty_v=plane_v, empty_f=np.empty((0, 3), np.int64),
              step_v=plane_v + np.outer(plane_v[:, 0] >= 0.7, [0.0, 0.0, 0.1]), step_f=plane_f,
-             **flapped(plane_v, plane_f))
+             **flapped(plane_v, plane_f), **strayed(plane_v, plane_f))
     result = run_scenario("measure_deviation", {"meshes_npz": str(path)}, user_dir=tmp / "blender",
                           install=False, timeout=300)
     result["sagitta_fine"] = max_sagitta(fine_v, fine_f)
@@ -426,6 +436,15 @@ def test_identical_meshes_are_zero_apart(measured):
     assert r["hausdorff"] < 1e-6
     assert r["mean"] < 1e-7
     assert r["diagonal"] == pytest.approx(2 ** 0.5)
+
+
+def test_a_zero_area_face_is_no_surface_to_measure(measured):
+    # A LOD that dropped a zero-area face far from the rest (as the core does) is the
+    # surface the source has: before, its corners measured 5 units (64 % of a real
+    # object's size); a thin triangle with an area is measured as any other.
+    stray, thin = measured["stray"], measured["thin"]
+    assert stray["hausdorff"] < 1e-6, stray
+    assert thin["hausdorff"] == pytest.approx(math.hypot(0.5, 5.0), rel=1e-4), thin  # its corner (1.5, 0.5, 5)
 
 
 def test_plane_shifted_along_its_normal(measured):

@@ -5,7 +5,7 @@ Shared by the benchmarks (bench/), the add-on's report panel and the command lin
 
 Method (what the numbers mean):
   * Each surface is sampled with area-uniform random points (NumPy, vectorised), and its
-    vertices (those used by a face) are added to the points of that surface.
+    vertices (those used by a face of nonzero area) are added to the points of that surface.
   * For every point the exact closest point on the *other* surface is found with
     ``mathutils.bvhtree.BVHTree.find_nearest`` (exact point-to-triangle distance; Blender
     stores the tree in single precision, so distances carry ~1e-7 relative error).
@@ -430,9 +430,19 @@ def _sample_count(v, f, samples_per_unit_area, n_samples) -> int:
     return DEFAULT_SAMPLES
 
 
-def _queried_vertices(f: np.ndarray, limit: Optional[int]) -> np.ndarray:
+def _queried_vertices(f: np.ndarray, limit: Optional[int], v: Optional[np.ndarray] = None) -> np.ndarray:
     """The ids of the vertices ``f`` uses, or ``limit`` of them spread evenly over the ids
-    (a mesh's vertex order follows its surface, so the subset does too)."""
+    (a mesh's vertex order follows its surface, so the subset does too). With the
+    vertices ``v``, those only zero-area faces use are left out: such a face has no
+    surface (the core drops it, core.prepare.ZERO_AREA_QUALITY), and a stray one far from
+    the rest (a .blend's corners on a line) measured a LOD that dropped it at 64 % of its
+    object's size."""
+    from ._core import core
+
+    if v is not None and len(f):
+        surface = core.triangle_quality(v, f) >= core.prepare.ZERO_AREA_QUALITY
+        if surface.any() and not surface.all():
+            f = f[surface]
     # The ids in order, as np.unique gives them, without its sort of every corner.
     used = np.flatnonzero(np.bincount(f.ravel(), minlength=int(f.max()) + 1 if f.size else 0))
     if limit is not None and len(used) > limit:
@@ -454,7 +464,7 @@ def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None,
     ``climb_seeds``: _climb's seeds of each kind (None: the report's, one per
     CLIMB_POINTS_PER_SEED points, at most CLIMB_SEEDS)."""
     samples, tri, bary, rng_a = _sampled(v_a, f_a, n_a, seed)
-    used = _queried_vertices(f_a, vertex_limit)
+    used = _queried_vertices(f_a, vertex_limit, v_a)
     verts = v_a[used]
     wanted = shading is not None or (keep is not None and keep[0] is not None)
     d_samples, nearest, at = _distances_known(

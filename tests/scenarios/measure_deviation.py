@@ -22,6 +22,8 @@ def run(meshes_npz: str) -> dict:
         "sphere": deviation("fine", "coarse", n_samples=50_000),
         "sphere_swapped": deviation("coarse", "fine", n_samples=50_000),
         "density": deviation("plane", "shifted", samples_per_unit_area=1000),
+        "stray": deviation("stray", "plane", n_samples=20_000),
+        "thin": deviation("thin", "plane", n_samples=20_000),
         "report": measure.mesh_report(d["fine_v"], d["fine_f"], d["coarse_v"], d["coarse_f"], n_samples=5000),
         "core_quality": core.quality_summary(d["coarse_v"], d["coarse_f"]),
     }
