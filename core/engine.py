@@ -197,6 +197,7 @@ class State:
     drop_at: float = np.inf  # the error (normalised) at which the smallest part that may go is smaller
     part: object = None  # (n,) the part of each vertex when several share the run (Options.vertex_part)
     part_cost: object = None  # (parts,) the largest RMS cost of a collapse taken in each part so far
+    part_area_floor: object = None  # (parts,) rule no_degenerate_face's floor per part (validation.part_area_floors)
     corner_size: object = None  # (n,) a feature corner's distance to the nearest other corner (inf elsewhere)
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     bound_crawl: int = 0  # the same under a distance bound with every rule relaxed (_crawling_under_bound)
@@ -263,6 +264,7 @@ def run(p: Problem) -> list:
     if p.options.vertex_part is not None:  # several parts in one run (core.assembly)
         s.part = np.asarray(p.options.vertex_part, dtype=np.int64)[p.vertex_origin]
         s.part_cost = np.zeros(int(s.part.max(initial=-1)) + 1)
+        s.part_area_floor = validation.part_area_floors(s.V, s.part)
     # (Limits only grow along a chain: the first level's limited vertices are all there are.)
     limited = np.zeros(n, dtype=bool) if p.vertex_limits is None else np.isfinite(p.vertex_limits[0])
     if not limited.any():

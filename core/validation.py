@@ -25,7 +25,24 @@ from .guards import SLIVER_QUALITY, SLIVER_SLACK, relaxation_ladder
 from .metrics import quality_from
 
 STRICT = relaxation_ladder()[0]
-MIN_DOUBLE_AREA = 1e-14  # in normalised units (unit bounding-box diagonal)
+# Rule no_degenerate_face: a face's doubled area may not fall to this, in units of its
+# mesh's bounding-box diagonal squared; in a run of several parts (core.assembly), of its
+# part's (part_area_floors): a part 10^7 times smaller than the asset's largest had every
+# face below the asset's floor, every collapse of it was refused, and a search by
+# deviation made nothing of the whole asset.
+MIN_DOUBLE_AREA = 1e-14
+
+
+def part_area_floors(vertices: np.ndarray, part: np.ndarray) -> np.ndarray:
+    """(parts,) MIN_DOUBLE_AREA in the units of ``vertices`` (n, 3) for each part (n,)
+    labels: times the square of the part's bounding-box diagonal in those units."""
+    parts = int(part.max(initial=-1)) + 1
+    low = np.full((parts, 3), np.inf)
+    high = np.full((parts, 3), -np.inf)
+    np.minimum.at(low, part, vertices)
+    np.maximum.at(high, part, vertices)
+    diagonal_sq = np.where(np.isfinite(low).all(axis=1), np.einsum("ij,ij->i", high - low, high - low), 1.0)
+    return MIN_DOUBLE_AREA * diagonal_sq
 FLAT_RING_AGREEMENT = 0.85  # |sum of ring normals| / sum of their lengths: "nearly flat"
 
 
@@ -132,13 +149,15 @@ def _corners_kept(s, conn, keep, remove, pos, fans, c) -> np.ndarray:
     if np.any(floor > 0) and conn.border_vertex.any():
         floor = slivers.border_floors(floor, s.slivers.worst, conn.border_vertex, keep, remove,
                                       nb_next, nb_prev, collapse)
+    area_floor = MIN_DOUBLE_AREA if s.part_area_floor is None else s.part_area_floor[s.part[keep]][collapse]
     bad = corner_breaks(rows(s.V, moving), rows(s.V, nb_next), rows(s.V, nb_prev), rows(pos, collapse),
-                        dying, collapse, c, source, guards.min_normal_cosine, floor)
+                        dying, collapse, c, source, guards.min_normal_cosine, floor, area_floor)
     return np.bincount(collapse[bad], minlength=c) == 0
 
 
 def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
-                  min_normal_cosine=STRICT.min_normal_cosine, min_quality=SLIVER_QUALITY) -> np.ndarray:
+                  min_normal_cosine=STRICT.min_normal_cosine, min_quality=SLIVER_QUALITY,
+                  min_double_area=MIN_DOUBLE_AREA) -> np.ndarray:
     """(k,) bool: the corners whose face would turn over, vanish or become a sliver.
 
     One row per face corner around the ends of ``c`` collapses: p_a (k, 3) the moving
@@ -147,7 +166,8 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
     bad), collapse (k,) which collapse the corner belongs to, source (k, 3) the unit normal
     of the input face its face descends from. min_normal_cosine and min_quality: the
     relaxable rules' thresholds (core.guards); min_quality may be (k,), one per corner
-    (core.slivers.border_floors).
+    (core.slivers.border_floors); min_double_area (rule no_degenerate_face) may be (k,),
+    one per corner (part_area_floors).
     """
     # Normals before and after moving the end to the new position: (b - a) x (c - a) in
     # the face's own cyclic order.
@@ -160,7 +180,7 @@ def corner_breaks(p_a, p_b, p_c, x, dying, collapse, c, source,
     # Rules normal_turn and no_turn_over (a negative cosine is never allowed), and
     # no_degenerate_face.
     min_cosine = max(min_normal_cosine, 0.0)
-    bad = ~dying & ((dot < min_cosine * len_old * len_new) | (len_new <= MIN_DOUBLE_AREA))
+    bad = ~dying & ((dot < min_cosine * len_old * len_new) | (len_new <= min_double_area))
     # Nor may a face end up facing against a nearly flat surface around the collapse (a
     # fold-over that each single turn allowed). Only where the rings' normals agree: at
     # tips and sharp ridges their sum means little.

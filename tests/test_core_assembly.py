@@ -71,6 +71,25 @@ def test_the_larger_part_keeps_more_at_equal_error():
         assert np.allclose(np.linalg.norm(r.vertices, axis=1), 1.0, atol=0.1)  # own units
 
 
+@pytest.mark.parametrize("tiny", [1e-4, 1e-6])
+def test_a_part_ten_million_times_smaller_does_not_stop_the_run(tiny):
+    """A sphere at 1,000 units and one at 1e-4 (or 1e-6) in one run under a distance
+    bound, as an asset's search by deviation runs it: rule no_degenerate_face measures
+    each face against its own part's size. Against the run's, every face of the small
+    part was below the floor, none of its collapses was allowed, and the run stopped
+    before the large part lost a triangle."""
+    V, F = _sphere(3)
+    parts = [assembly.Part(V, F, core.Options(), scale=1000.0), assembly.Part(V, F, core.Options(), scale=tiny)]
+    v, f, options, layout = assembly.combine(parts)
+    result = core.simplify_chain(v, f, [0], core.Options.of(options, max_error=[50.0]))[0]
+    large, small = assembly.split(result, layout)
+    assert len(large.faces) < 0.5 * len(F), len(large.faces)
+    assert small is None or len(small.faces) < len(F)
+    for r, p in zip((large, small), parts):
+        if r is not None:
+            check.assert_valid_result(r, p.vertices, p.faces)
+
+
 def test_uv_seams_do_not_decide_which_part_pays():
     """A large sphere and six small ones, each a UV sphere whose pole triangles have a UV
     of their own (as Blender makes them): with their UVs, the parts share every level
