@@ -18,7 +18,7 @@ Objects sharing a mesh (LodJob's groups) are one part, counted once per object.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
@@ -261,17 +261,23 @@ def switch_data(asset: Asset, eps: list, settings: LodSettings) -> dict:
                                         vertical_fov_degrees=settings.vertical_fov)
 
 
-def report(asset: Asset, reports: list, switch: Optional[dict], eps: Optional[list]) -> dict:
+def report(asset: Asset, reports: list, switch: Optional[dict], eps: Optional[list],
+           notes: Sequence[str] = ()) -> dict:
     """The run's asset entry: what the asset draws per level (every object counted, shared
     meshes too), its measured deviation in scene units and in percent of its diagonal,
-    and its switch numbers."""
+    its switch numbers, and ``notes`` on the asset as a whole ("warnings")."""
     levels = max((len(r["levels"]) for r in reports), default=0)
     out = {"name": asset.name, "objects": asset.objects, "bounding_box_diagonal": asset.diagonal,
-           "source_triangles": int(sum(r["source_triangles"] for r in reports)), "levels": []}
+           "source_triangles": int(sum(r["source_triangles"] for r in reports)), "levels": [],
+           "warnings": list(notes)}
     for k in range(1, levels + 1):
         present = [r for r in reports if len(r["levels"]) >= k]
         entry = {"level": k, "parts": len(present),
                  "triangles": int(sum(r["levels"][k - 1]["triangles"] for r in present))}
+        asked = [r["levels"][k - 1]["requested_deviation_percent"] for r in present
+                 if r["levels"][k - 1].get("requested_deviation_percent") is not None]
+        if asked:  # every part's bound is the asset's, in % of the asset's diagonal
+            entry["requested_deviation_percent"] = float(asked[0])
         if eps is not None:
             entry["hausdorff"] = float(eps[k])
             entry["hausdorff_percent"] = float(100.0 * eps[k] / asset.diagonal) if asset.diagonal > 0 else 0.0

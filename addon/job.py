@@ -149,6 +149,7 @@ class LodJob:
         if asset_set.is_asset(objects, per_object):
             self.asset = asset_set.asset_of(objects, asset_name or asset_set.default_name(objects))
         self.asset_report: Optional[dict] = None  # after commit(), for an asset
+        self.asset_notes: list = []  # what the report says of the asset as a whole (its "warnings")
         self._matrices = []  # per group: its objects' world matrices (asset_set.split_budget)
         for ob, s in zip(objects, per_object):
             key = lod.shared_mesh_key(ob, s)
@@ -315,7 +316,7 @@ class LodJob:
         for k, r in enumerate(results, start=1):
             if r.stats.stop_reason != core.STOP_TARGET:
                 why = core.STOP_REASON_TEXT.get(r.stats.stop_reason, r.stats.stop_reason)
-                self.inputs[0].warnings.append(
+                self.asset_notes.append(
                     f"the asset's LOD{k} stopped above its budget of {self._asset_targets[k - 1]} triangles: {why}")
         return self.TOGETHER_SHARE
 
@@ -331,7 +332,7 @@ class LodJob:
             found = deviation_search.by_deviation_together(
                 self.inputs, [asset_set.matrix_scale_max(placed) for placed in self._matrices],
                 [len(placed) for placed in self._matrices], settings.deviations(self.asset.diagonal),
-                self.inputs[0].warnings, progress=step, cancelled=self._cancel.is_set)
+                self.asset_notes, progress=step, cancelled=self._cancel.is_set)
         except core.SimplifyCancelled as ex:
             raise LodCancelled("cancelled") from ex
         except ValueError as ex:
@@ -432,5 +433,5 @@ class LodJob:
             self.asset, asset_set.level_deviations(chains, for_switch=True), self.inputs[0].settings)
         reports = lod.commit(context, self.object_outputs, self.objects, switch=switch)
         asset_set.mark(self.asset, reports)
-        self.asset_report = asset_set.report(self.asset, reports, switch, eps)
+        self.asset_report = asset_set.report(self.asset, reports, switch, eps, self.asset_notes)
         return reports

@@ -16,6 +16,7 @@ import bpy
 
 from . import deviation_view, lod_objects, mesh_io, object_importance, vertex_groups
 from .pure.importance import expected_gain, key_strength_note
+from .headless.report import noted_names, object_notes
 from .job import LodJob
 from .pure.settings import LodCancelled, LodError, LodSettings
 from .props import settings_properties
@@ -183,11 +184,11 @@ class OBJECT_OT_line_quadric_lod(bpy.types.Operator):
         panel = scene_settings(context)
         if panel is not None:
             panel.last_report = json.dumps(reports)
-        for note in job.skipped:
+        for note in job.skipped + job.asset_notes:
             self.report({'WARNING'}, note)
-        for rep in reports:
-            for warning in rep["warnings"]:
-                self.report({'WARNING'}, f"{rep['object']}: {warning}")
+        # A note the copies of a shared mesh (or several parts) have alike: once, naming them.
+        for warning, names in object_notes(reports).items():
+            self.report({'WARNING'}, f"{noted_names(names)}: {warning}")
         self.report({'INFO'}, _summary(reports))
         return {'FINISHED'}
 

@@ -108,6 +108,16 @@ def test_every_part_switches_with_the_asset(res):
     assert_same_counts(quiet["asset"]["levels"], levels)
 
 
+def test_a_note_on_the_whole_asset_is_the_assets(res):
+    # Notes about the asset as a whole are in its entry, not on whichever part came first.
+    run = res["deviation_tight"]
+    assert "error" not in run, run.get("error")
+    assert any(w.startswith("the asset's LOD1 repeats it whole") for w in run["asset"]["warnings"]), run["asset"]
+    for name, rep in run["reports"].items():
+        assert not any(w.startswith("the asset's") for w in rep["warnings"]), (name, rep["warnings"])
+    assert res["deviation"]["asset"]["warnings"] == []
+
+
 def test_deviations_are_relative_to_the_asset(res):
     run = res["deviation"]
     assert "error" not in run, run.get("error")
@@ -117,6 +127,17 @@ def test_deviations_are_relative_to_the_asset(res):
             scene_units = level["requested_deviation"] * run["world_scale"][name]
             assert scene_units == pytest.approx(percent / 100 * diagonal, rel=1e-3), name
             assert level["requested_deviation_percent"] == pytest.approx(percent, rel=1e-3)
+            # ... and in % of the part's own diagonal, as its hausdorff_percent is (the
+            # command line's Target column: a bolt's "<=1%" beside its 1.5 % of itself
+            # read as a miss).
+            own = level["requested_deviation_object_percent"]
+            assert own >= percent * (1 - 1e-9), (name, level)  # a part is no larger than its asset
+            assert level["hausdorff_percent"] <= own * (1 + 1e-9), (name, level)
+    bolt = run["reports"]["Bolt"]["levels"][0]
+    assert bolt["requested_deviation_object_percent"] > 2 * bolt["requested_deviation_percent"], bolt
+    for level, percent in zip(run["asset"]["levels"], (1.0, 4.0)):
+        assert level["requested_deviation_percent"] == pytest.approx(percent, rel=1e-3)
+        assert level["hausdorff_percent"] <= percent * (1 + 1e-9)
     # Every part is in every level of the asset. The decal, too small for a search of its
     # own, is searched with the rest (one run for the asset: LodJob._search_together): it
     # stays whole where the asset's bound allows nothing coarser (one mesh for both levels

@@ -201,6 +201,27 @@ def test_table_format():
     assert lines[2].split()[4] == "-"  # LOD0 has no target
 
 
+def test_table_gives_each_bound_in_its_rows_unit():
+    # A part of an asset asked for 1 % of the asset: its Hausdorff % is of its own size,
+    # and so is its Target; the asset's row has the asset's bound.
+    level = {"level": 1, "name": "Bolt_LOD1", "target": None, "triangles": 40, "hausdorff_percent": 1.5,
+             "mean_percent": 0.1, "mean_quality": 0.8, "min_quality": 0.3, "sliver_percent": 0.0, "seconds": 0.1,
+             "requested_deviation": 0.02, "requested_deviation_percent": 1.0,
+             "requested_deviation_object_percent": 1.54}
+    source = dict(level, level=0, name="Bolt_LOD0", triangles=80, requested_deviation_percent=None,
+                  requested_deviation_object_percent=None)
+    files = [{"label": "a.glb", "objects": [{"levels": [source, level]}],
+              "asset": {"levels": [{"level": 1, "triangles": 40, "hausdorff_percent": 0.97,
+                                    "requested_deviation_percent": 1.0}]}}]
+    rows = [line.split() for line in report.format_table(files).splitlines()[2:]]
+    assert rows[1][1] == "Bolt_LOD1" and rows[1][4] == "<=1.54%" and rows[1][5] == "1.500", rows
+    assert rows[2][1] == "(asset)" and rows[2][4] == "<=1%" and rows[2][5] == "0.970", rows
+    # A single object's bound is of its own size already.
+    alone = dict(level, requested_deviation_object_percent=None)
+    files = [{"label": "a.glb", "objects": [{"levels": [source, alone]}]}]
+    assert report.format_table(files).splitlines()[3].split()[4] == "<=1%"
+
+
 def test_table_shows_the_worst_shape_key_when_keys_were_measured():
     keys = [{"name": "Blink", "hausdorff_percent": 0.2, "mean_percent": 0.01},
             {"name": "Smile", "hausdorff_percent": 0.7, "mean_percent": 0.02}]
@@ -225,10 +246,13 @@ def test_a_note_several_objects_share_is_printed_once(capsys):
     objects.append({"object": "Base", "levels": [], "warnings": ["no importance (no shape keys)", kept]})
     assert report.object_notes(objects) == {kept: [o["object"] for o in objects],
                                             "no importance (no shape keys)": ["Base"]}
-    report.print_results({"files": [{"label": "bolts.blend", "warnings": [], "objects": objects, "outputs": []}],
-                          "failures": [], "seconds": 1.0})
+    asset = {"levels": [], "warnings": ["the asset's LOD2 repeats its LOD1: nothing coarser is within its "
+                                        "deviation 1 (scene units)"]}
+    report.print_results({"files": [{"label": "bolts.blend", "warnings": [], "objects": objects, "outputs": [],
+                                     "asset": asset}], "failures": [], "seconds": 1.0})
     notes = [line for line in capsys.readouterr().out.splitlines() if line.startswith("note: ")]
-    assert notes == [f"note: bolts.blend: Bolt.000, Bolt.001, Bolt.002, Bolt.003 and 3 more: {kept}",
+    assert notes == [f"note: bolts.blend: {asset['warnings'][0]}",  # the asset's own, not a part's
+                     f"note: bolts.blend: Bolt.000, Bolt.001, Bolt.002, Bolt.003 and 3 more: {kept}",
                      "note: bolts.blend: Base: no importance (no shape keys)"]
 
 

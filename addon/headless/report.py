@@ -103,9 +103,11 @@ class StreamedReport:
 
 
 def _target_cell(level: dict) -> str:
-    """The triangle count asked for, or for a LOD by deviation the bound it is within."""
-    if level.get("requested_deviation_percent") is not None:
-        return f"<={level['requested_deviation_percent']:.3g}%"
+    """The triangle count asked for, or for a LOD by deviation the bound it is within, in
+    the unit of its row's Hausdorff %: a part of an asset's in % of its own diagonal."""
+    for key in ("requested_deviation_object_percent", "requested_deviation_percent"):
+        if level.get(key) is not None:
+            return f"<={level[key]:.3g}%"
     return _fmt(level.get("target"), ",")
 
 
@@ -227,7 +229,8 @@ def format_table(files: list) -> str:
                 ])
         for level in (f.get("asset") or {}).get("levels", []):
             # The whole asset (addon/asset.py): what it draws, its deviation in % of its size.
-            rows.append([f["label"], "(asset)", f"LOD{level['level']}", f"{level['triangles']:,}", "-",
+            rows.append([f["label"], "(asset)", f"LOD{level['level']}", f"{level['triangles']:,}",
+                         _target_cell(level),
                          _fmt(level.get("hausdorff_percent"), ".3f"), "-", *(["-"] if keys else []),
                          "-", "-", "-", "-"])
     return _aligned(header, rows, left={0, 1, 2})
@@ -250,6 +253,13 @@ def object_notes(objects: list) -> dict:
     return notes
 
 
+def noted_names(names: list) -> str:
+    """The objects a note is about, as print_results names them: the first NOTE_NAMES,
+    then how many more."""
+    more = len(names) - NOTE_NAMES
+    return ", ".join(names[:NOTE_NAMES]) + (f" and {more} more" if more > 0 else "")
+
+
 def print_results(report: dict) -> None:
     table = format_table(report["files"])
     if table:
@@ -262,11 +272,10 @@ def print_results(report: dict) -> None:
     for line in limit_lines(report["files"]) + posed_lines(report["files"]):
         print(line)
     for f in report["files"]:
-        for warning in f["warnings"]:
+        for warning in f["warnings"] + (f.get("asset") or {}).get("warnings", []):
             print(f"note: {f['label']}: {warning}")
         for warning, names in object_notes(f["objects"]).items():
-            print(f"note: {f['label']}: {', '.join(names[:NOTE_NAMES])}"
-                  f"{f' and {len(names) - NOTE_NAMES} more' if len(names) > NOTE_NAMES else ''}: {warning}")
+            print(f"note: {f['label']}: {noted_names(names)}: {warning}")
     n = len(report["files"])
     failed = report["failures"]
     skipped = report.get("skipped", 0)

@@ -99,9 +99,11 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         requested = [None] * len(results)
         measured = {}
     levels, reports = [], []
-    diagonal = None
+    diagonal = own_diagonal = None
     if lod_input.deviations is not None:
         diagonal = lod_input.reference_diagonal or measure.bbox_diagonal(data.vertices, data.faces)
+        if lod_input.reference_diagonal:
+            own_diagonal = measure.bbox_diagonal(data.vertices, data.faces)
     if lod_input.poses is not None:
         results = skin_fit.skinned_levels(lod_input, results, simplify, lod_input.deviations is None,
                                           lambda: report_progress(simplify_share))
@@ -129,6 +131,10 @@ def compute(lod_input: LodInput, progress: Optional[Callable[[float], object]] =
         if requested[k - 1] is not None:
             entry["requested_deviation"] = requested[k - 1]
             entry["requested_deviation_percent"] = requested[k - 1] * 100.0 / diagonal
+            if own_diagonal is not None and own_diagonal > 0:
+                # A part's bound in % of its own diagonal, as its hausdorff_percent is
+                # (requested_deviation_percent is the asset's, its reference).
+                entry["requested_deviation_object_percent"] = requested[k - 1] * 100.0 / own_diagonal
         if measuring or requested[k - 1] is not None:
             rep = previous if repeated and previous is not None else \
                 level_report(data, levels[-1], measured.get(id(result)), lod_input.part_samples)

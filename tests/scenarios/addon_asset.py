@@ -149,6 +149,8 @@ def run() -> dict:
         "asset_unmeasured": run_job(ratios=(0.5, 0.25, 0.125), measure_deviation=False),
         "per_part": run_job(ratios=(0.5, 0.25, 0.125), asset_budget=False),
         "deviation": run_job(max_deviations=((1.0, True), (4.0, True))),
+        # A bound nothing coarser than the asset meets: a note on the asset, not on a part.
+        "deviation_tight": run_job(max_deviations=((0.0001, True),)),
         "deviation_per_part": run_job(max_deviations=((1.0, True), (4.0, True)), asset_budget=False,
                                       measure_deviation=False),
         "too_small": run_job(triangle_counts=(10_000,)),
