@@ -321,6 +321,7 @@ def _live(cache: list) -> list:
 # where the sampling left it, for the climb that draws from it next.
 _SAMPLES_CACHE_SIZE = 8
 _samples_cache: list = []
+_used_cache: list = []  # and the vertices queried (_queried_vertices), by the same rule
 
 
 def _sampled(v: np.ndarray, f: np.ndarray, n: int, seed: int) -> tuple:
@@ -464,7 +465,11 @@ def _one_direction(v_a, f_a, seed, n_a, tree_b, shading=None, keep=None, b=None,
     ``climb_seeds``: _climb's seeds of each kind (None: the report's, one per
     CLIMB_POINTS_PER_SEED points, at most CLIMB_SEEDS)."""
     samples, tri, bary, rng_a = _sampled(v_a, f_a, n_a, seed)
-    used = _queried_vertices(f_a, vertex_limit, v_a)
+    used = _cached(_used_cache, v_a, f_a, vertex_limit)
+    if used is None:  # (a source is measured against each of its levels: its vertices once)
+        used = _queried_vertices(f_a, vertex_limit, v_a)
+        used.setflags(write=False)
+        _cache(_used_cache, _SAMPLES_CACHE_SIZE, v_a, f_a, vertex_limit, used)
     verts = v_a[used]
     wanted = shading is not None or (keep is not None and keep[0] is not None)
     d_samples, nearest, at = _distances_known(
