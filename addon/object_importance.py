@@ -118,10 +118,8 @@ def importance_preview(obj, settings: LodSettings) -> tuple:
     if settings.importance_source == 'SHAPE_KEYS':
         g = shape_key_importance_of(obj)
         # As a run of the object alone scales it (lod.prepare): by the surface left still.
-        faces = mesh_io.triangles(obj.data)[0]
-        vertices = np.empty(3 * len(obj.data.vertices), dtype=np.float64)
-        obj.data.vertices.foreach_get("co", vertices)
-        strength = imp.key_strength(strength, *imp.still_share(g, vertices.reshape(-1, 3), faces))
+        strength = imp.key_strength(strength, *imp.still_share(g, mesh_io.positions(obj.data),
+                                                               mesh_io.triangles(obj.data)[0]))
     else:
         names = obj.vertex_groups.keys()
         g = importance_of(obj, settings, names, vertex_groups.read_weights(obj.data, names, all_names=names))

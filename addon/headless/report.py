@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..pure._core import core
 from ..pure.settings import LodSettings
+from ..pure.wording import listed_names
 from .arguments import lod_settings
 
 
@@ -256,8 +257,7 @@ def object_notes(objects: list) -> dict:
 def noted_names(names: list) -> str:
     """The objects a note is about, as print_results names them: the first NOTE_NAMES,
     then how many more."""
-    more = len(names) - NOTE_NAMES
-    return ", ".join(names[:NOTE_NAMES]) + (f" and {more} more" if more > 0 else "")
+    return listed_names(names, NOTE_NAMES)
 
 
 def print_results(report: dict) -> None:

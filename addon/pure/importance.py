@@ -176,12 +176,10 @@ def still_share(g: np.ndarray, vertices: np.ndarray, faces: np.ndarray, scale: f
     """(still area, total area) of the triangles ``faces`` (m, 3) over ``vertices`` (n, 3),
     in the vertices' units times ``scale`` squared: still, those whose every corner has
     importance ``g`` (n,) below KEY_STILL. Sums, so that an asset's parts add up."""
-    v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     if not len(f):
         return 0.0, 0.0
-    areas = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
-    areas *= float(scale) ** 2
+    areas = core.geometry.face_frames(np.asarray(vertices, dtype=np.float64), f)[1] * float(scale) ** 2
     still = (np.asarray(g, dtype=np.float64)[f] < KEY_STILL).all(axis=1)
     return float(areas[still].sum()), float(areas.sum())
 

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 
-def quoted_names(names, most: int = 6) -> str:
-    """'"A", "B", "C"' for ``names``, the first ``most`` of them and "and N more" beyond."""
+def listed_names(names, most: int) -> str:
+    """'A, B, C' for ``names``: the first ``most`` of them, then "and N more"."""
     names = list(names)
-    shown = ", ".join(f'"{n}"' for n in names[:most])
-    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
+    return ", ".join(names[:most]) + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
+def quoted_names(names, most: int = 6) -> str:
+    """listed_names with each name in double quotes: '"A", "B", "C"'."""
+    return listed_names([f'"{n}"' for n in names], most)
