@@ -76,6 +76,9 @@ def nothing_to_simplify(source, depsgraph, use_modifiers: bool) -> Optional[str]
         return "its curve makes no faces (no bevel, extrusion or fill)"
     if source.type == 'META':
         return "no faces (a metaball's family is drawn by its first object)"
+    if use_modifiers and mesh_io.drawn_instances(source, depsgraph):
+        # (the command line makes them objects first: sources.make_node_instances_real)
+        return "its geometry nodes draw only instances (Object > Convert > Mesh makes them faces)"
     if use_modifiers and mesh_io.has_geometry_modifiers(source) and len(source.data.polygons):
         return "its modifiers leave no faces"
     return "no faces"

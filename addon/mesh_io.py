@@ -248,6 +248,15 @@ def evaluated_faces(obj, depsgraph) -> int:
         evaluated.to_mesh_clear()
 
 
+def drawn_instances(obj, depsgraph) -> int:
+    """How many instances ``obj``'s evaluated geometry draws (geometry nodes' Instance on
+    Points, say): they are not in its evaluated mesh."""
+    if not any(md.type == 'NODES' and md.show_viewport for md in getattr(obj, "modifiers", ())):
+        return 0
+    return sum(1 for inst in depsgraph.object_instances
+               if inst.is_instance and inst.parent is not None and inst.parent.original == obj)
+
+
 def deforming_armature_modifiers(obj) -> list:
     """The object's enabled Armature modifiers that point at an armature."""
     return [md for md in obj.modifiers if md.type == 'ARMATURE' and md.object is not None and md.show_viewport]

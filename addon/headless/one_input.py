@@ -105,10 +105,11 @@ def process(job: InputJob, args, console: Console, files_left_seconds: float = 0
         scene = bpy.context.scene
         lod_group.restore_base_names(scene)
         entry["warnings"] += sources.make_instances_real(scene, bpy.context.view_layer)
-        entry["warnings"] += sources.make_linked_local(bpy.context.view_layer)
+        made_real, instancers_only = sources.make_node_instances_real(bpy.context.view_layer)
+        entry["warnings"] += made_real + sources.make_linked_local(bpy.context.view_layer)
         objects, skipped = sources.select_objects(scene, args.objects, bpy.context.view_layer,
                                                   bpy.context.evaluated_depsgraph_get(),
-                                                  getattr(args, "use_modifiers", True))
+                                                  getattr(args, "use_modifiers", True), instancers_only)
         entry["warnings"] += skipped + sources.drop_replaced_lods(scene, objects)
         entries, asset, keyed = make_lods(objects, args, console, job.label, files_left_seconds)
         name_chains(entries, args.lod_group, asset)

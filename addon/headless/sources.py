@@ -67,6 +67,68 @@ def make_instances_real(scene, view_layer) -> list:
     return notes
 
 
+def make_node_instances_real(view_layer) -> tuple:
+    """Every instance that an object's geometry nodes draw (Instance on Points, a scatter)
+    becomes an object: one mesh per distinct instanced geometry, shared by a copy per
+    instance parented to the instancer where the instance draws it; the instancer keeps
+    the mesh its stack makes besides the instances (its geometry-nodes modifier and the
+    others but Armature applied). Returns (notes, names of the instancers that keep no
+    faces: nothing of their own to simplify, and no note needed).
+
+    The instances were in no LOD: the evaluated mesh of a scatter holds no faces (they
+    are instances), so the file failed with '"Scatter": its modifiers leave no faces', or
+    an object with faces of its own lost its instances in every level. Made objects
+    sharing their meshes, as collection instances are (make_instances_real), each
+    instanced geometry is simplified once and drawn, counted and switched per copy.
+    The input file is not touched: the command line works on its own copy."""
+    import bpy
+    from mathutils import Matrix
+
+    instancers = {ob.name: ob for ob in view_layer.objects if ob.type == 'MESH'
+                  and any(md.type == 'NODES' and md.show_viewport for md in ob.modifiers)}
+    if not instancers:
+        return [], []
+    depsgraph = view_layer.depsgraph
+    placed = {}  # instancer name -> [(mesh, world matrix)] in the depsgraph's order
+    meshes = {}  # instanced geometry (its evaluated data) -> the mesh made of it
+    for inst in depsgraph.object_instances:
+        if not inst.is_instance or inst.parent is None or inst.parent.original.name not in instancers:
+            continue
+        data = inst.object.data
+        if inst.object.type != 'MESH' or data is None or not len(data.polygons):
+            continue  # (a light, a curve's points, an instanced point cloud)
+        key = data.as_pointer()
+        if key not in meshes:
+            meshes[key] = data.copy()  # (the evaluated data is the depsgraph's, gone after the loop)
+            meshes[key].name = f"{inst.parent.original.name} instance"
+        placed.setdefault(inst.parent.original.name, []).append((meshes[key], inst.matrix_world.copy()))
+    notes, faceless = [], []
+    for name, copies in placed.items():
+        ob = instancers[name]
+        own = bpy.data.meshes.new_from_object(ob.evaluated_get(depsgraph), preserve_all_data_layers=True,
+                                              depsgraph=depsgraph)
+        own.name = ob.data.name
+        ob.data = own
+        for md in [md for md in ob.modifiers if md.type != 'ARMATURE']:
+            ob.modifiers.remove(md)
+        into_parent = ob.matrix_world.inverted_safe()
+        for i, (mesh, world) in enumerate(copies):
+            copy = bpy.data.objects.new(f"{name}.{i:03d}", mesh)
+            copy.parent = ob
+            copy.matrix_parent_inverse = Matrix.Identity(4)
+            copy.matrix_basis = into_parent @ world
+            for target in ob.users_collection:
+                target.objects.link(copy)
+        kinds = len({id(mesh) for mesh, _ in copies})
+        notes.append(f'"{name}": the {len(copies)} instance{"s" if len(copies) != 1 else ""} its geometry nodes '
+                     f'draw made real ({kinds} mesh{"es" if kinds != 1 else ""}, shared), its modifiers applied')
+        if not len(own.polygons):
+            faceless.append(name)
+    if placed:
+        view_layer.update()
+    return notes, faceless
+
+
 def make_linked_local(view_layer) -> list:
     """Every object the view layer draws that is linked from another .blend becomes a
     local object in its place, under its own name where no local object has it (its
@@ -151,19 +213,21 @@ def drop_replaced_lods(scene, sources) -> list:
     return notes
 
 
-def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True) -> tuple:
+def select_objects(scene, names, view_layer=None, depsgraph=None, use_modifiers: bool = True,
+                   instancers_only=()) -> tuple:
     """(objects, skipped) to simplify: ``names``, or every object that draws a mesh
     (mesh_io.GEOMETRY_TYPES) and is not a LOD nor a helper (a Boolean cutter, disabled in
     renders, a collision mesh, the file's own LOD1 and up: lod.helper_role), of
     ``view_layer``'s objects when given (an excluded collection draws nothing), with faces
     to simplify (through its modifiers with ``use_modifiers``: a Mask or Boolean can leave
     none, and such an object failed its file). ``depsgraph``: the scene's evaluated one,
-    found when not given."""
+    found when not given. ``instancers_only``: names of objects whose geometry nodes drew
+    only instances, made objects (make_node_instances_real): left out without a note."""
     # Meshes drawn as bone shapes (rig widgets) are display helpers, not assets.
     widgets = {pb.custom_shape for ob in scene.objects if ob.type == 'ARMATURE' and ob.pose
                for pb in ob.pose.bones if pb.custom_shape is not None}
-    meshes = [ob for ob in scene.objects
-              if mesh_io.draws_geometry(ob) and lod_objects.LEVEL_PROP not in ob and ob not in widgets]
+    meshes = [ob for ob in scene.objects if mesh_io.draws_geometry(ob) and lod_objects.LEVEL_PROP not in ob
+              and ob not in widgets and ob.name not in instancers_only]
     drawn = None if view_layer is None else set(view_layer.objects)
     if names:
         problems, picked = [], []
