@@ -210,6 +210,12 @@ def prepare(context_or_scene, source, settings: LodSettings, chain_labels: tuple
     settings.validate()
     _, depsgraph = mesh_io.scene_and_depsgraph(context_or_scene)
     data, warnings = mesh_io.read_object(source, depsgraph, settings.use_modifiers)
+    instances = mesh_io.drawn_instances(source, depsgraph) if settings.use_modifiers else 0
+    if instances and len(data.faces):
+        # (the command line makes them objects first: sources.make_node_instances_real)
+        warnings.append(f"the {instances} instance{'s' if instances != 1 else ''} its geometry nodes draw "
+                        f"{'are' if instances != 1 else 'is'} not in its LODs (Object > Convert > Mesh makes "
+                        f"them faces)")
     if len(data.faces) == 0 and source.type != 'MESH':  # a curve without bevel, a metaball of a family
         raise LodError(f'"{source.name}" has nothing to simplify: '
                        f'{nothing_to_simplify(source, depsgraph, settings.use_modifiers)}')

@@ -34,9 +34,14 @@ def made(tmp_path_factory):
 
 
 def test_the_panel_names_instances_as_what_it_cannot_simplify(made):
-    """Selected in the panel, the scatter is left out with the reason and the way out."""
+    """Selected in the panel, the scatter is left out with the reason and the way out; an
+    object that draws faces of its own beside instances gets LODs of its faces, with a
+    note that its instances are not in them."""
     assert made["scene"]["scatter_reason"] == \
         "its geometry nodes draw only instances (Object > Convert > Mesh makes them faces)"
+    count = len(made["scene"]["drawn"]["Field"]["instances"])
+    assert f"the {count} instances its geometry nodes draw are not in its LODs (Object > Convert > Mesh " \
+           f"makes them faces)" in made["scene"]["field_notes"], made["scene"]["field_notes"]
 
 
 def test_each_instance_is_an_object_sharing_its_geometrys_lods(made):

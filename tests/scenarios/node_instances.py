@@ -7,6 +7,7 @@ objects still draws, and which objects have a geometry-nodes modifier."""
 import bpy
 
 from addon import lod, mesh_io
+from addon.pure.settings import LodSettings
 from scene_tools import remove_all_objects
 
 
@@ -69,5 +70,6 @@ def run(blend_out: str = "", check: str = "") -> dict:
             else:
                 of["own"] = len(mesh.loop_triangles)
     reason = lod.nothing_to_simplify(scatter, depsgraph, True)
+    field_notes = lod.prepare(bpy.context, field, LodSettings(ratios=(0.5,))).warnings
     bpy.ops.wm.save_as_mainfile(filepath=blend_out)
-    return {"drawn": drawn, "scatter_reason": reason}
+    return {"drawn": drawn, "scatter_reason": reason, "field_notes": field_notes}
