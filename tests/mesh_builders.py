@@ -89,6 +89,25 @@ def uv_sphere(n_lon: int = 16, n_lat: int = 10, radius: float = 1.0, pole_uv: st
     return v, np.concatenate(faces).astype(np.int64), np.concatenate(uvs)
 
 
+def subdivided_uv_sphere(levels: int = 1, n_lon: int = 32, n_lat: int = 16):
+    """uv_sphere(pole_uv="fan") subdivided ``levels`` times (1->4 midpoints, pushed back
+    onto the sphere), each face's UVs interpolated within that face, as a Subdivision
+    Surface modifier gives Blender's UV sphere: the pole edges' midpoints have one UV per
+    side, half the pole's jump. Returns (V, F, UV)."""
+    v, f, uv = uv_sphere(n_lon, n_lat, pole_uv="fan")
+    for _ in range(levels):
+        m = len(f)
+        v, f_new = subdivide(v, f)
+        v = v / np.linalg.norm(v, axis=1, keepdims=True)
+        mid = 0.5 * (uv + uv[:, [1, 2, 0]])  # midpoints of corners 01, 12, 20
+        c0, c1, c2, a, b, c = uv[:, 0], uv[:, 1], uv[:, 2], mid[:, 0], mid[:, 1], mid[:, 2]
+        uv = np.concatenate([np.stack([c0, a, c], axis=1), np.stack([a, c1, b], axis=1),
+                             np.stack([c, b, c2], axis=1), np.stack([a, b, c], axis=1)])
+        assert len(f_new) == 4 * m
+        f = f_new
+    return v, f, uv
+
+
 def cube(k: int = 4, split: bool = False, half: float = 1.0, ticks=None):
     """A cube [-half, half]^3, each side a k x k grid of quads with its own UV island.
 
