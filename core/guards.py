@@ -57,8 +57,8 @@ RULES = (
                    "three corners lie on open borders, and while a sliver-rich input's LOD has "
                    "fewer slivers than the input's share (core.slivers)", True),
     Rule("seams", "seam vertices (whose own corner values change, core.wedges.value_changes) slide "
-                  "only along their seam; seam ends and junctions stay put (a UV pole's rays are no "
-                  "seams: core.uv_poles)", True),
+                  "only along their seam; seam ends and junctions stay put (a UV pole's web of seams "
+                  "is none: core.uv_poles)", True),
     Rule("feature_corners", "corners where three creases meet, and sharp turns of an open "
                             "boundary, stay put (feature_angle), but those that crowd a LOD "
                             "and are smaller than its error (core.engine._release_small_corners)", True),

@@ -81,8 +81,9 @@ FAULTS = (
                                                  "of its faces; in an asset, of each part's own)"),
     ("UV changing at one end of a seam edge", "core.wedges", "the other end (a fan pole's ring, a cut's tip) "
                                                              "has one UV: no seam vertex, it moves freely"),
-    ("a subdivided UV pole's rays", "core.uv_poles", "seams from a vertex where six or more start, each fading "
-                                                     "out within the island: no seams but at the pole"),
+    ("a subdivided UV pole's seams", "core.uv_poles", "the web of seams around a vertex where six or more "
+                                                      "start, fading out within the island: no seams but at "
+                                                      "the pole"),
     ("normals split at every hard edge", "core.engine", "custom normals are Options.seamless_attributes: "
                                                         "carried, each side its own, but no seams"),
     ("small holes (cracks, pin holes)", "core.validation", "a hole shrinks to three border edges and stays "

@@ -50,6 +50,20 @@ def test_seams_that_do_not_fade_or_start_at_a_junction_stay():
     assert np.array_equal(uv_poles.pole_ray_changes(conn.edges, change, len(V)), change)
 
 
+def test_an_island_outline_around_a_pole_stays_a_seam():
+    """A cap island around the pole (its UVs elsewhere) has an outline of seam vertices
+    near the pole, but the outline joins no pole: it stays; the fan's rays are one edge
+    each, as before."""
+    V, F, UV = build.uv_sphere(32, 16, pole_uv="fan")
+    UV = UV.copy()
+    cap = (V[F][:, :, 2] > np.cos(2 * np.pi / 16) - 1e-9).all(axis=1)  # the pole's two rings
+    UV[cap] += [5.0, 0.0]
+    conn, change = _changes(V, F, UV)
+    outline = _seam_vertices(conn, change, len(V)) & (np.abs(V[:, 2] - np.cos(2 * np.pi / 16)) < 1e-9)
+    assert outline.sum() == 32
+    assert np.array_equal(uv_poles.pole_ray_changes(conn.edges, change, len(V), conn.border_vertex), change)
+
+
 @pytest.mark.parametrize("levels, ratio", [(1, 0.05), (2, 0.02)])
 def test_a_subdivided_uv_sphere_keeps_its_shape_at_low_counts(levels, ratio):
     """Every face of the LOD stays near the unit sphere (a face across it, as when the
