@@ -870,7 +870,7 @@ def _classify(s: State, conn, n, preserve_seams) -> np.ndarray:
                              np.where(conn.border_vertex, kinds.BORDER, kinds.FREE))).astype(np.int8)
     if s.wedges is not None and preserve_seams and s.guards.seams != "free":
         # (A UV pole's web of seams, which fades out within its island, is none: core.uv_poles.)
-        change = uv_poles.pole_ray_changes(conn.edges, s.wedges.value_changes(s.F, conn), n, conn.border_vertex)
+        change = uv_poles.pole_web_changes(conn.edges, s.wedges.value_changes(s.F, conn), n, conn.border_vertex)
         seam_edge = change.any(axis=1)
         # A vertex is on a seam where its own values change (core.wedges.value_changes),
         # as meshoptimizer classifies by a vertex's wedges: the ring around a pole whose

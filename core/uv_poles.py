@@ -35,7 +35,7 @@ POLE_RAYS = 6
 WEB_DEPTH = 3
 
 
-def pole_ray_changes(edges: np.ndarray, change: np.ndarray, n: int, border=None) -> np.ndarray:
+def pole_web_changes(edges: np.ndarray, change: np.ndarray, n: int, border=None) -> np.ndarray:
     """``change`` (k, 2) bool (core.wedges.value_changes: per edge of ``edges`` (k, 2) and
     end, whether the values change there) with the changes at the vertices of pole webs
     cleared. ``border``: (n,) bool, the border vertices, or None."""

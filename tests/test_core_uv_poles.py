@@ -26,7 +26,7 @@ def _seam_vertices(conn, change, n):
 def test_a_subdivided_poles_rays_are_not_seams_but_at_the_pole():
     V, F, UV = build.subdivided_uv_sphere(1)
     conn, change = _changes(V, F, UV)
-    cleared = uv_poles.pole_ray_changes(conn.edges, change, len(V))
+    cleared = uv_poles.pole_web_changes(conn.edges, change, len(V))
     before, after = _seam_vertices(conn, change, len(V)), _seam_vertices(conn, cleared, len(V))
     poles = np.flatnonzero(np.abs(V[:, 2]) > 1 - 1e-9)
     # The rays' midpoints leave the seams (31 a pole: the 32nd ray is the meridian's own
@@ -44,10 +44,10 @@ def test_seams_that_do_not_fade_or_start_at_a_junction_stay():
     already): nothing to clear. A seam joining two poles is the meridian: kept."""
     V, F, UV = build.uv_sphere(32, 16, pole_uv="fan")
     conn, change = _changes(V, F, UV)
-    assert np.array_equal(uv_poles.pole_ray_changes(conn.edges, change, len(V)), change)
+    assert np.array_equal(uv_poles.pole_web_changes(conn.edges, change, len(V)), change)
     V, F, UV = build.uv_sphere(32, 16, pole_uv="shared")  # no pole: the meridian alone
     conn, change = _changes(V, F, UV)
-    assert np.array_equal(uv_poles.pole_ray_changes(conn.edges, change, len(V)), change)
+    assert np.array_equal(uv_poles.pole_web_changes(conn.edges, change, len(V)), change)
 
 
 def test_an_island_outline_around_a_pole_stays_a_seam():
@@ -61,7 +61,7 @@ def test_an_island_outline_around_a_pole_stays_a_seam():
     conn, change = _changes(V, F, UV)
     outline = _seam_vertices(conn, change, len(V)) & (np.abs(V[:, 2] - np.cos(2 * np.pi / 16)) < 1e-9)
     assert outline.sum() == 32
-    assert np.array_equal(uv_poles.pole_ray_changes(conn.edges, change, len(V), conn.border_vertex), change)
+    assert np.array_equal(uv_poles.pole_web_changes(conn.edges, change, len(V), conn.border_vertex), change)
 
 
 @pytest.mark.parametrize("levels, ratio", [(1, 0.05), (2, 0.02)])

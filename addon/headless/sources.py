@@ -107,7 +107,9 @@ def make_node_instances_real(view_layer) -> tuple:
         ob = instancers[name]
         own = bpy.data.meshes.new_from_object(ob.evaluated_get(depsgraph), preserve_all_data_layers=True,
                                               depsgraph=depsgraph)
-        own.name = ob.data.name
+        mesh_name = ob.data.name
+        ob.data.name = f"{mesh_name} (with geometry nodes)"  # (the loaded copy's; freed unused)
+        own.name = mesh_name
         ob.data = own
         for md in [md for md in ob.modifiers if md.type != 'ARMATURE']:
             ob.modifiers.remove(md)
@@ -119,9 +121,9 @@ def make_node_instances_real(view_layer) -> tuple:
             copy.matrix_basis = into_parent @ world
             for target in ob.users_collection:
                 target.objects.link(copy)
-        kinds = len({id(mesh) for mesh, _ in copies})
+        distinct = len({id(mesh) for mesh, _ in copies})
         notes.append(f'"{name}": the {len(copies)} instance{"s" if len(copies) != 1 else ""} its geometry nodes '
-                     f'draw made real ({kinds} mesh{"es" if kinds != 1 else ""}, shared), its modifiers applied')
+                     f'draw made real ({distinct} mesh{"es" if distinct != 1 else ""}, shared), its modifiers applied')
         if not len(own.polygons):
             faceless.append(name)
     if placed:
