@@ -19,6 +19,18 @@ from ..pure.wording import quoted_names
 INSTANCE_DEPTH = 8
 
 
+def _place_under(parent, ob, basis) -> None:
+    """Link the new object ``ob`` where ``parent`` is linked, as its child at ``basis``
+    (a Matrix in the parent's space, no parent inverse)."""
+    from mathutils import Matrix
+
+    ob.parent = parent
+    ob.matrix_parent_inverse = Matrix.Identity(4)
+    ob.matrix_basis = basis
+    for target in parent.users_collection:
+        target.objects.link(ob)
+
+
 def make_instances_real(scene, view_layer) -> list:
     """Every collection instance the view layer draws becomes objects: for each empty
     that instances a collection, a copy of every object of that collection (sharing its
@@ -48,12 +60,7 @@ def make_instances_real(scene, view_layer) -> list:
             into_collection_space = Matrix.Translation(-coll.instance_offset)
             made = 0
             for src in coll.all_objects:
-                copy = src.copy()
-                copy.parent = empty
-                copy.matrix_parent_inverse = Matrix.Identity(4)
-                copy.matrix_basis = into_collection_space @ src.matrix_world
-                for target in empty.users_collection:
-                    target.objects.link(copy)
+                _place_under(empty, src.copy(), into_collection_space @ src.matrix_world)
                 made += 1
             empty.instance_type = 'NONE'
             made_of.setdefault(coll.name, ([], made))[0].append(empty.name)
@@ -82,7 +89,6 @@ def make_node_instances_real(view_layer) -> tuple:
     instanced geometry is simplified once and drawn, counted and switched per copy.
     The input file is not touched: the command line works on its own copy."""
     import bpy
-    from mathutils import Matrix
 
     instancers = {ob.name: ob for ob in view_layer.objects if ob.type == 'MESH'
                   and any(md.type == 'NODES' and md.show_viewport for md in ob.modifiers)}
@@ -115,12 +121,7 @@ def make_node_instances_real(view_layer) -> tuple:
             ob.modifiers.remove(md)
         into_parent = ob.matrix_world.inverted_safe()
         for i, (mesh, world) in enumerate(copies):
-            copy = bpy.data.objects.new(f"{name}.{i:03d}", mesh)
-            copy.parent = ob
-            copy.matrix_parent_inverse = Matrix.Identity(4)
-            copy.matrix_basis = into_parent @ world
-            for target in ob.users_collection:
-                target.objects.link(copy)
+            _place_under(ob, bpy.data.objects.new(f"{name}.{i:03d}", mesh), into_parent @ world)
         distinct = len({id(mesh) for mesh, _ in copies})
         notes.append(f'"{name}": the {len(copies)} instance{"s" if len(copies) != 1 else ""} its geometry nodes '
                      f'draw made real ({distinct} mesh{"es" if distinct != 1 else ""}, shared), its modifiers applied')
