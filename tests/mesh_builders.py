@@ -383,6 +383,27 @@ def t_junction_slit(left: int = 12, right: int = 7, rows: int = 10):
 
 
 
+def jittered_slit(left: int = 12, right: int = 7, rows: int = 8, seed: int = 0, jitter: float = 6e-4,
+                  sliver: float = 1e-4):
+    """t_junction_slit as CAD exporters write it: each side's points of the shared line off
+    it by up to ``jitter`` either way (within core.stitching's tolerance), and the column of
+    faces beside the line on both sides ``sliver`` wide, so that some of the splits that
+    close the slit would turn a thin face over and are undone, round after round."""
+    V, F = t_junction_slit(left, right, rows)
+    V = V.copy()
+    rng = np.random.default_rng(seed)
+    centre_x = V[F].mean(axis=1)[:, 0]
+    on_left = np.zeros(len(V), dtype=bool)
+    on_left[F[centre_x < 0].ravel()] = True
+    on_right = np.zeros(len(V), dtype=bool)
+    on_right[F[centre_x > 0].ravel()] = True
+    line = np.isclose(V[:, 0], 0.0) & (on_left ^ on_right)  # (the two shared ends stay)
+    V[line, 0] = rng.uniform(-jitter, jitter, int(line.sum()))
+    for side, sign in ((on_right, 1.0), (on_left, -1.0)):
+        V[np.isclose(V[:, 0], sign / rows) & side, 0] = sign * sliver
+    return V, F
+
+
 def _revolved(profile, n_around: int, first: int = 0):
     """A profile of (radius, height) points revolved about z in ``n_around`` steps: its
     rings' vertices (len(profile) * n_around, 3), ring i's ids starting at ``first`` + i *
