@@ -379,3 +379,21 @@ def test_rejections_outlive_a_rebuilt_connectivity(monkeypatch):
     check.assert_valid_result(kept, V, F)
     assert len(kept.faces) == len(forgotten.faces)
     assert kept.stats.passes <= 0.75 * forgotten.stats.passes, (kept.stats.passes, forgotten.stats.passes)
+
+
+def test_a_crawl_through_rejected_candidates_screens_them_all_at_once(monkeypatch):
+    """A sphere with 35 holes of three edges at 10 %: its tail rejects the few cheapest
+    candidates a pass, pass after pass, until none is left and the rules relax. After
+    SCREEN_ALL_AFTER passes that took nothing, a pass screens every candidate, so the
+    crawl ends at once (the engine's body_5 at 10 %: 248 passes, now 142): the same LOD in
+    at most 0.6 of the passes (105 against 209)."""
+    from core import engine
+
+    V, F, _ = build.holed_sphere()
+    at_once = core.simplify(V, F, ratio=0.1)
+    monkeypatch.setattr(engine, "SCREEN_ALL_AFTER", 10**9)
+    crawling = core.simplify(V, F, ratio=0.1)
+    check.assert_valid_result(at_once, V, F)
+    assert at_once.stats.stop_reason == core.STOP_TARGET
+    assert np.array_equal(at_once.faces, crawling.faces) and np.allclose(at_once.vertices, crawling.vertices)
+    assert at_once.stats.passes <= 0.6 * crawling.stats.passes, (at_once.stats.passes, crawling.stats.passes)
