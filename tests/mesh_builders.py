@@ -383,25 +383,40 @@ def t_junction_slit(left: int = 12, right: int = 7, rows: int = 10):
 
 
 
-def jittered_slit(left: int = 12, right: int = 7, rows: int = 8, seed: int = 0, jitter: float = 6e-4,
-                  sliver: float = 1e-4):
-    """t_junction_slit as CAD exporters write it: each side's points of the shared line off
-    it by up to ``jitter`` either way (within core.stitching's tolerance), and the column of
-    faces beside the line on both sides ``sliver`` wide, so that some of the splits that
-    close the slit would turn a thin face over and are undone, round after round."""
-    V, F = t_junction_slit(left, right, rows)
-    V = V.copy()
+def cracked_quadrants(divisions, seed: int = 0, jitter: float = 6e-4, sliver: float = 1e-4):
+    """The sheet [-1, 1] x [-1, 1] (normal +z) as CAD exporters write a face they cut in
+    four: each quadrant tessellated alone (``divisions``: its (nx, ny) quads, four pairs),
+    so the lines x = 0 and y = 0 are cracks with T-junctions, only the origin and the
+    lines' outer ends shared. Each quadrant's points on a line lie off it by up to
+    ``jitter`` towards the other side (within core.stitching's tolerance), and its column
+    and row of faces beside the lines are ``sliver`` wide, so that some of the splits that
+    close the cracks would turn the other side's thin faces over and are undone; a face at
+    the origin has a crack on two of its edges, split one round at a time."""
     rng = np.random.default_rng(seed)
-    centre_x = V[F].mean(axis=1)[:, 0]
-    on_left = np.zeros(len(V), dtype=bool)
-    on_left[F[centre_x < 0].ravel()] = True
-    on_right = np.zeros(len(V), dtype=bool)
-    on_right[F[centre_x > 0].ravel()] = True
-    line = np.isclose(V[:, 0], 0.0) & (on_left ^ on_right)  # (the two shared ends stay)
-    V[line, 0] = rng.uniform(-jitter, jitter, int(line.sum()))
-    for side, sign in ((on_right, 1.0), (on_left, -1.0)):
-        V[np.isclose(V[:, 0], sign / rows) & side, 0] = sign * sliver
-    return V, F
+    meshes = []
+    for (sx, sy), (nx, ny) in zip(((-1, -1), (1, -1), (-1, 1), (1, 1)), divisions):
+        v, f = grid(int(nx), int(ny), size=(1.0, 1.0))
+        v = v.copy()
+        v[np.isclose(v[:, 0], 1.0 / nx), 0] = sliver
+        v[np.isclose(v[:, 1], 1.0 / ny), 1] = sliver
+        on_x = np.isclose(v[:, 0], 0.0) & (v[:, 1] > 0) & (v[:, 1] < 1)
+        on_y = np.isclose(v[:, 1], 0.0) & (v[:, 0] > 0) & (v[:, 0] < 1)
+        v[on_x, 0] = -rng.uniform(0.0, jitter, int(on_x.sum()))
+        v[on_y, 1] = -rng.uniform(0.0, jitter, int(on_y.sum()))
+        v[:, 0] *= sx
+        v[:, 1] *= sy
+        meshes.append((v, f if sx * sy > 0 else f[:, ::-1]))  # (a mirror turns the faces over)
+    return weld_exact(*components(meshes))
+
+
+# cracked_quadrants' divisions and seeds in which a stitching round has every split undone
+# (the faces come back in another order: core.stitching.stitch's parents must follow).
+CRACKED_QUADRANTS = (
+    (((4, 3), (7, 3), (7, 3), (5, 6)), 13),
+    (((3, 7), (8, 3), (3, 5), (5, 7)), 14),
+    (((7, 6), (7, 5), (8, 5), (3, 5)), 28),
+    (((6, 5), (4, 4), (7, 8), (8, 8)), 29),
+)
 
 
 def _revolved(profile, n_around: int, first: int = 0):

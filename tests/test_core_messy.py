@@ -251,17 +251,17 @@ def test_stitched_faces_map_to_the_faces_they_split_and_interpolate_corner_value
     assert np.all(np.einsum("ij,ij->i", n_out, n_src) > 0)
 
 
-@pytest.mark.parametrize("seed", range(8))
-def test_every_stitched_face_lies_on_the_face_it_names_as_its_parent(seed):
+@pytest.mark.parametrize("divisions,seed", build.CRACKED_QUADRANTS)
+def test_every_stitched_face_lies_on_the_face_it_names_as_its_parent(divisions, seed):
     """core.stitching.stitch's parent and weights are what the run reads each face's input
     normal, quality and corner values from. A round whose splits were all undone gave the
     faces back in another order, and its parents were left as they were: an engine part
     (body_22) had 1,753 of its 1,932 faces judged by another face, and on its own at 10 %
-    stopped at 272 triangles for 188. Here the slit's points lie off the line beside thin
-    faces, so that round comes."""
+    stopped at 272 triangles for 188. Here the cracks' points lie off their lines beside
+    thin faces, so that round comes."""
     from core import prepare, stitching
 
-    V, F = build.jittered_slit(seed=seed)
+    V, F = build.cracked_quadrants(divisions, seed)
     p = prepare.validate_and_prepare(V, F, [len(F)], core.Options(stitch_cracks=False))
     stitched = stitching.stitch(p.vertices, p.faces)
     assert stitched is not None
@@ -276,19 +276,20 @@ def test_every_stitched_face_lies_on_the_face_it_names_as_its_parent(seed):
     assert off.max() <= stitching.ABSOLUTE_TOLERANCE
 
 
-@pytest.mark.parametrize("seed", range(8))
-def test_repaired_faces_keep_their_input_faces_corner_values_and_winding(seed):
-    """What exporters write, in one mesh: a slit whose points lie off the line beside thin
-    faces, a sphere with flipped caps and a soup of zero-area and duplicate faces. Taken
+@pytest.mark.parametrize("divisions,seed", build.CRACKED_QUADRANTS)
+def test_repaired_faces_keep_their_input_faces_corner_values_and_winding(divisions, seed):
+    """What exporters write, in one mesh: cracks whose points lie off their lines beside
+    thin faces, a sphere with flipped caps and a soup of zero-area and duplicate faces. Taken
     through the repairs (stitched, wound consistently, cleaned) with nothing to collapse,
     each face keeps the corner values of the input face it names (here each corner's
     input position: linear, so a split face's corners too, up to the slit's offsets) and
-    faces as that face did. With a stitching round's parents stale, faces along the slit
-    took the values of faces up to 0.9 away, and some turned against their input faces."""
+    faces as that face did. With a stitching round's parents stale, faces along the cracks
+    took the values of faces far away, and some turned against their input faces."""
     rng = np.random.default_rng(seed)
     caps_v, caps_f = build.flipped_caps()[:2]
     soup_v, soup_f = build.with_bad_faces(*build.grid(6)[:2], seed=seed)[:2]
-    parts = [build.jittered_slit(seed=seed), (caps_v + [3.0, 0.0, 0.0], caps_f), (soup_v + [0.0, 3.0, 0.0], soup_f)]
+    parts = [build.cracked_quadrants(divisions, seed), (caps_v + [3.0, 0.0, 0.0], caps_f),
+             (soup_v + [0.0, 3.0, 0.0], soup_f)]
     V, F = build.components([parts[i] for i in rng.permutation(3)])
     r = core.simplify(V, F, ratio=1.0, corner_attributes={"position": V[F]})
     assert r.stats.stop_reason == core.STOP_TARGET
