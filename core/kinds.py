@@ -70,8 +70,9 @@ FAULTS = (
     ("zero-area face", "core.prepare", "dropped: corners on one line to float32 precision (quality < 1e-6)"),
     ("duplicate face", "core.prepare", "one copy kept; of copies wound both ways, the one wound like its "
                                        "neighbours"),
-    ("T-junction crack", "core.stitching", "the border vertex on the other side's border edge splits it: "
-                                           "the slit becomes an inner seam"),
+    ("T-junction crack", "core.stitching", "the border vertex on the other side's border edge splits it "
+                                           "(moved onto the edge where the split would turn a thin face "
+                                           "over): the slit becomes an inner seam"),
     ("inconsistent winding", "core.orientation", "each part wound like most of its area for the run, and the "
                                                  "LOD's faces turned back as their input faces were"),
     ("edge of three or more faces", "core.kinds", "its vertices are COMPLEX: they stay, the surfaces around "

@@ -38,10 +38,11 @@ def repaired(p, twin=None, stitch: bool = True):
         return p
     conn = topology.build(p.faces, n)
     if stitch:
-        stitched = stitching.stitch(p.vertices, p.faces, conn)
+        stitched = stitching.stitch(p.vertices, p.faces, conn, fixed=p.locked)
         if stitched is not None:
-            *split, conn = stitched
+            *split, conn, vertices = stitched
             p = _with_splits(p, *split)
+            p = _moved(p, vertices)
     flip = orientation.faces_to_flip(p.vertices, p.faces, conn)
     if flip.any():
         p = _turned(p, flip, twin)
@@ -67,6 +68,17 @@ def _with_splits(p, faces, parent, split_rows, weights):
     return dataclasses.replace(p, faces=faces, face_origin=run_id, face_source=face_source,
                                unsplit_faces=rows(p.faces, parent), run_faces=len(parent),
                                corner_attributes=corner_attributes)
+
+
+def _moved(p, vertices):
+    """``p`` with its vertices at ``vertices`` (normalised units), those that moved given
+    back in input units too (a point stitching put onto the edge it went into)."""
+    moved = np.flatnonzero(np.any(vertices != p.vertices, axis=1))
+    if len(moved) == 0:
+        return p
+    input_positions = p.input_positions.copy()
+    input_positions[moved] = vertices[moved] * p.scale + p.center
+    return dataclasses.replace(p, vertices=vertices, input_positions=input_positions)
 
 
 def _turned(p, flip, twin):

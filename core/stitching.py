@@ -18,7 +18,11 @@ into that edge: the edge's face (a, b, c) becomes the fan (a, p1, c), (p1, p2, c
 (pk, b, c) over the points in order along a -> b. With both chains' vertices in both
 sides' edges the two sides share every edge and the slit is an ordinary interior seam.
 Vertices are not moved: a point of a curved seam sits off the other side's chord by the
-chord's sagitta, a fraction of the tolerance.
+chord's sagitta, a fraction of the tolerance. But where that puts it beyond the apex of
+the other side's thin face, so that the split would turn a face over, the point moves
+onto the edge it goes into (by that sagitta: 1e-5 of the part's size on the engine's
+parts), as long as none of its own faces turns (``_snapped``); such splits were undone,
+and 268 of the 322 T-junctions they left open on the engine's parts close this way.
 
 The new faces descend from the face they split (engine._snapshot gives them its index);
 their corner values are interpolated along the split edge.
@@ -43,10 +47,11 @@ END_MARGIN = 1e-6
 ROUNDS = 3
 
 
-def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
+def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None, fixed=None):
     """(faces (m', 3), parent (m',), rows (k,), weights (k, 3, 3), connectivity of the new
-    faces) with T-junction cracks closed, or None when nothing is to be stitched (the
-    common case).
+    faces, vertices (n, 3)) with T-junction cracks closed, or None when nothing is to be
+    stitched (the common case). The vertices are ``vertices`` but where a point moved onto
+    the edge it went into (_snapped); ``fixed`` (n,) bool: vertices that may not move.
 
     vertices (n, 3) in normalised units (unit diagonal), faces (m, 3) int64 without
     degenerate or duplicate rows. parent: the row of ``faces`` each output face comes
@@ -55,6 +60,7 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
     interpolating corner values; every other face has its parent's corners). conn:
     ``topology.build(faces, n)`` if the caller has it."""
     n = len(vertices)
+    fixed = np.zeros(n, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
     part = components.vertex_labels(faces, n)
     parent = np.arange(len(faces))
     rows, weights = np.zeros(0, dtype=np.int64), np.zeros((0, 3, 3))
@@ -64,9 +70,12 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
         if splits is None:
             break
         before = current
+        points = _points_on_edges(vertices, before, *splits)
         current, step_parent, step_rows, step_weights = _split_faces(current, *splits)
+        vertices = _snapped(vertices, before, current, step_parent, step_rows, points, fixed)
         current, step_parent, step_rows, step_weights, conn = _undo_bad_splits(
             vertices, before, current, step_parent, step_rows, step_weights, n)
+        vertices = _unsnapped(vertices, points, current[step_rows])
         # Composed even when every split of the round was undone: the undone faces come
         # back in another order, and a parent left as it was named the wrong face for
         # most rows (an engine part: 1,753 of 1,932, each judged by another face's
@@ -77,7 +86,60 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None):
             break
     if len(current) == len(faces):
         return None
-    return current, parent, rows, weights, conn
+    return current, parent, rows, weights, conn, vertices
+
+
+class _Points:
+    """The points a round inserts: vertex ids (k,), the face of ``before`` each goes into
+    (k,), its place on that face's edge (k, 3) and where it was (k, 3)."""
+
+    def __init__(self, vertex, face, on_edge, was):
+        self.vertex, self.face, self.on_edge, self.was = vertex, face, on_edge, was
+
+
+def _points_on_edges(V, F, corner, vertex, t) -> _Points:
+    flat = F.ravel()
+    a, b = V[flat[corner]], V[flat[topology.next_corner(corner)]]
+    return _Points(vertex, corner // 3, a + t[:, None] * (b - a), V[vertex])
+
+
+def _snapped(V, before, faces, parent, rows, points: _Points, fixed) -> np.ndarray:
+    """``V`` with the points of the splits that would turn a face over moved onto the edges
+    they go into, each only where none of the faces around it turns (its own side's, as
+    ``faces`` has them); a split still turned after that is undone (_undo_bad_splits)."""
+    normals, _ = face_frames(V, faces[rows])
+    parent_normals, _ = face_frames(V, before[parent[rows]])
+    turned_parents = np.unique(parent[rows][np.einsum("ij,ij->i", normals, parent_normals) <= 0])
+    move = np.isin(points.face, turned_parents) & ~fixed[points.vertex]
+    if not move.any():
+        return V
+    moved = V.copy()
+    moved[points.vertex[move]] = points.on_edge[move]
+    # Each face as it must keep facing: one not split this round as it did, a split one as
+    # the face it was split from did (before anything moved).
+    was = face_frames(V, faces)[0]
+    was[rows] = parent_normals
+    for _ in range(int(move.sum())):
+        # (A vertex put back can turn a face another one moved shares: look again.)
+        around = np.flatnonzero(np.isin(faces, points.vertex[move]).any(axis=1))
+        now, area = face_frames(moved, faces[around])
+        bad = around[(np.einsum("ij,ij->i", was[around], now) <= 0) | (area <= 0)]
+        if len(bad) == 0:
+            break
+        back = move & np.isin(points.vertex, faces[bad].ravel())
+        moved[points.vertex[back]] = points.was[back]
+        move &= ~back
+    return moved
+
+
+def _unsnapped(V, points: _Points, split_faces) -> np.ndarray:
+    """``V`` with the points whose splits were all undone back where they were."""
+    gone = ~np.isin(points.vertex, split_faces.ravel()) & np.any(V[points.vertex] != points.was, axis=1)
+    if not gone.any():
+        return V
+    V = V.copy()
+    V[points.vertex[gone]] = points.was[gone]
+    return V
 
 
 def _composed(m_before, rows, weights, step_parent, step_rows, step_weights):
@@ -254,14 +316,29 @@ def _split_faces(F, corner, vertex, t):
     return faces, parent, len(keep_rows) + np.arange(len(rolled)), w
 
 
+def _folded(V, faces, conn) -> np.ndarray:
+    """(edges,) bool: edges of two faces that run them the same way and face the same way
+    (one lies on the other; two faces wound against each other face opposite ways, and
+    core.orientation turns one of them)."""
+    flat = faces.ravel()
+    two = np.flatnonzero((conn.edge_faces == 2) & (conn.edge_he1 >= 0))
+    same_way = flat[conn.edge_he0[two]] == flat[conn.edge_he1[two]]
+    two = two[same_way]
+    normals, _ = face_frames(V, faces[np.concatenate([conn.edge_he0[two], conn.edge_he1[two]]) // 3])
+    folded = np.zeros(len(conn.edge_faces), dtype=bool)
+    folded[two] = np.einsum("ij,ij->i", normals[:len(two)], normals[len(two):]) > 0
+    return folded
+
+
 def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
     """The split faces back as they were where a split went wrong:
     - a new face turned against the face it was split from (a point beside a thin
       triangle's edge can fall on the wrong side of its other edges): rule no_turn_over
       would then freeze its corners for the whole run;
     - an edge with three or more faces among the new ones (a seam where three sheets
-      meet, a vertex that fitted an edge of its own side): the repair must not make a
-      manifold mesh non-manifold.
+      meet, a vertex that fitted an edge of its own side), or two faces on one side of an
+      edge (both run it the same way and face the same way: a fold, as a moved point at
+      a thin face's foot made one): the repair must not make a manifold mesh non-manifold.
     rows, weights: the split faces and their corners' weights, as _split_faces gives.
     Returns them with the faces and parents kept, and the connectivity of those faces
     (the next round's, and core.repair's, so it is built once)."""
@@ -281,7 +358,7 @@ def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
             split = np.zeros(len(faces), dtype=bool)
             split[rows] = True
         conn = topology.build(faces, n)
-        crowded = np.flatnonzero(conn.edge_faces > 2)
+        crowded = np.flatnonzero((conn.edge_faces > 2) | _folded(V, faces, conn))
         if len(crowded) == 0:
             break
         on_crowded = np.flatnonzero(np.isin(conn.he_edge, crowded)) // 3

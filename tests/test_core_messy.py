@@ -265,14 +265,14 @@ def test_every_stitched_face_lies_on_the_face_it_names_as_its_parent(divisions, 
     p = prepare.validate_and_prepare(V, F, [len(F)], core.Options(stitch_cracks=False))
     stitched = stitching.stitch(p.vertices, p.faces)
     assert stitched is not None
-    faces, parent, split_rows, weights, _ = stitched
+    faces, parent, split_rows, weights, _, vertices = stitched
     # Every face's corners, as barycentric weights over its parent's corners (the identity
     # for a face not split), are where its vertices are: an inserted point up to the
     # stitching tolerance off the edge it was put on.
     on_parent = np.broadcast_to(np.eye(3), (len(faces), 3, 3)).copy()
     on_parent[split_rows] = weights
-    corners = np.einsum("fij,fjk->fik", on_parent, p.vertices[p.faces[parent]])
-    off = np.linalg.norm(corners - p.vertices[faces], axis=2)
+    corners = np.einsum("fij,fjk->fik", on_parent, vertices[p.faces[parent]])
+    off = np.linalg.norm(corners - vertices[faces], axis=2)
     assert off.max() <= stitching.ABSOLUTE_TOLERANCE
 
 
@@ -298,6 +298,47 @@ def test_repaired_faces_keep_their_input_faces_corner_values_and_winding(divisio
     n_out = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     source = V[F[r.face_origin]]
     n_in = np.cross(source[:, 1] - source[:, 0], source[:, 2] - source[:, 0])
+    assert np.all(np.einsum("ij,ij->i", n_out, n_in) > 0)
+
+
+def _slit_off_its_line_beside_slivers():
+    """t_junction_slit with the left half's points of the line 3e-4 inside the right half
+    (within the stitching tolerance) and the right half's column beside the line 1e-4
+    wide: each left point lies beyond the apex of the thin right face whose edge it goes
+    into. Returns (V, F, the moved left points)."""
+    V, F = build.t_junction_slit(12, 7, 8)
+    V = V.copy()
+    centre_x = V[F].mean(axis=1)[:, 0]
+    left, right = np.zeros(len(V), dtype=bool), np.zeros(len(V), dtype=bool)
+    left[F[centre_x < 0].ravel()] = True
+    right[F[centre_x > 0].ravel()] = True
+    points = np.isclose(V[:, 0], 0.0) & left & ~right
+    V[points, 0] = 3e-4
+    V[np.isclose(V[:, 0], 0.125) & right, 0] = 1e-4
+    return V, F, np.flatnonzero(points)
+
+
+@pytest.mark.parametrize("ratio", [1.0, 0.5, 0.1])
+def test_a_point_beyond_a_thin_faces_apex_moves_onto_the_edge_it_closes(ratio):
+    """Split there, the thin face would turn over, and the split was undone: 20 of the
+    slit's edges stayed open at every LOD. The point moves onto the edge instead (3e-4,
+    its own faces unturned), the slit closes but for the two edges of the gap at the
+    sliver's foot (whose corner would turn its own faces), and no LOD face turns against
+    its input face."""
+    from core import prepare
+
+    V, F, points = _slit_off_its_line_beside_slivers()
+    p = prepare.validate_and_prepare(V, F, [len(F)], core.Options())
+    assert _inner_border_edges(p.input_positions, p.faces) <= 2
+    moved = np.flatnonzero(np.any(p.input_positions != V[p.vertex_origin], axis=1))
+    assert set(p.vertex_origin[moved]) <= set(points)
+    assert np.abs(p.input_positions[moved] - V[p.vertex_origin[moved]]).max() <= 3e-4 + 1e-12
+    r = core.simplify(V, F, ratio=ratio)
+    check.assert_valid_result(r, V, F, split=True)
+    assert r.stats.stop_reason == core.STOP_TARGET
+    assert _inner_border_edges(r.vertices, r.faces) <= 2
+    n_out = check.face_normals(r.vertices, r.faces)
+    n_in = check.face_normals(V, F)[r.face_origin]
     assert np.all(np.einsum("ij,ij->i", n_out, n_in) > 0)
 
 
