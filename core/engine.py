@@ -141,7 +141,6 @@ class InputSlivers:
     allowance: object  # the share of slivers the LOD may have (sliver_allowance); per part (parts,) in a run of several
     floor_off: object = False  # this pass: fewer slivers than the allowance, the floor is off (by part too)
     stalled: bool = False  # the last pass took nothing
-    idle: int = 0  # passes in a row that took nothing (SCREEN_ALL_AFTER)
 
 
 @dataclass
@@ -212,6 +211,7 @@ class State:
     corner_size: object = None  # (n,) a feature corner's distance to the nearest other corner (inf elsewhere)
     crawl: int = 0  # passes in a row that took less than CRAWL_SHARE of what the target needs
     bound_crawl: int = 0  # the same under a distance bound with every rule relaxed (_crawling_under_bound)
+    idle: int = 0  # passes in a row that took nothing (SCREEN_ALL_AFTER)
     accepted_share: float = 1.0  # of the collapses the last pass's validation tried, the share it accepted
     face_quality: object = None  # (m,) each face's triangle_quality, kept up to date once asked (_face_quality)
     screening: bool = False  # the passes screen their candidates first (_screened), from the first that needed it on
@@ -661,7 +661,7 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
         upto = int(np.searchsorted(np.cumsum(removed[order]), need, side="left")) + 1
         chosen = chosen[:upto]
     s.slivers.stalled = len(chosen) == 0
-    s.slivers.idle = s.slivers.idle + 1 if s.slivers.stalled else 0
+    s.idle = s.idle + 1 if s.slivers.stalled else 0
     if len(chosen):
         if s.part is not None and _part_held_back(s, cand, chosen, np.sqrt(mean_sq)):
             _relax(s)
@@ -686,8 +686,9 @@ def _one_pass(s: State, pass_no: int, target: int, seed, preserve_seams):
 
 def _screened(s: State, conn, cand, pass_no):
     """(len(cand.edge),) bool: the candidates among the cheapest SCREEN_SHARE (all of them
-    after SCREEN_ALL_AFTER passes that took nothing) that validation.screened rejects (remembered as rejected, like any other: they wait for
-    their neighbourhood to change); the pass does not choose them. They still count in
+    after SCREEN_ALL_AFTER passes that took nothing) that validation.screened rejects
+    (remembered as rejected, like any other: they wait for their neighbourhood to
+    change); the pass does not choose them. They still count in
     the share of the candidates a pass may take (_choose), so that the pass takes the
     collapses it would have taken had it tried them in turn. (Tried first: the share
     taken of what the screening left, which ran far up the costs in a CAD part's tail,
@@ -696,7 +697,7 @@ def _screened(s: State, conn, cand, pass_no):
     (SCREEN_BELOW), so nothing here is the bound's rejection."""
     if s.passed_screen is None:
         s.passed_screen = np.zeros(len(conn.edges), dtype=np.int64)
-    if s.slivers.idle >= SCREEN_ALL_AFTER:
+    if s.idle >= SCREEN_ALL_AFTER:
         tried = np.arange(len(cand.edge))
     else:
         limit = _cost_quantiles(cand.cost, (SCREEN_SHARE,))[0]

@@ -29,6 +29,8 @@ their corner values are interpolated along the split edge.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from . import components, grid, topology
@@ -89,15 +91,18 @@ def stitch(vertices: np.ndarray, faces: np.ndarray, conn=None, fixed=None):
     return current, parent, rows, weights, conn, vertices
 
 
-class _Points:
+class _Points(NamedTuple):
     """The points a round inserts: vertex ids (k,), the face of ``before`` each goes into
     (k,), its place on that face's edge (k, 3) and where it was (k, 3)."""
 
-    def __init__(self, vertex, face, on_edge, was):
-        self.vertex, self.face, self.on_edge, self.was = vertex, face, on_edge, was
+    vertex: np.ndarray
+    face: np.ndarray
+    on_edge: np.ndarray
+    was: np.ndarray
 
 
 def _points_on_edges(V, F, corner, vertex, t) -> _Points:
+    """_Points of the splits (corner, vertex, t) _border_splits gives on the faces ``F``."""
     flat = F.ravel()
     a, b = V[flat[corner]], V[flat[topology.next_corner(corner)]]
     return _Points(vertex, corner // 3, a + t[:, None] * (b - a), V[vertex])
@@ -107,9 +112,7 @@ def _snapped(V, before, faces, parent, rows, points: _Points, fixed) -> np.ndarr
     """``V`` with the points of the splits that would turn a face over moved onto the edges
     they go into, each only where none of the faces around it turns (its own side's, as
     ``faces`` has them); a split still turned after that is undone (_undo_bad_splits)."""
-    normals, _ = face_frames(V, faces[rows])
-    parent_normals, _ = face_frames(V, before[parent[rows]])
-    turned_parents = np.unique(parent[rows][np.einsum("ij,ij->i", normals, parent_normals) <= 0])
+    turned_parents, parent_normals = _turned_splits(V, before, faces, parent, rows)
     move = np.isin(points.face, turned_parents) & ~fixed[points.vertex]
     if not move.any():
         return V
@@ -316,6 +319,14 @@ def _split_faces(F, corner, vertex, t):
     return faces, parent, len(keep_rows) + np.arange(len(rolled)), w
 
 
+def _turned_splits(V, before, faces, parent, rows) -> tuple:
+    """(the faces of ``before`` whose split turned a new face against them, the normals
+    of every split face's parent (len(rows), 3))."""
+    normals, _ = face_frames(V, faces[rows])
+    parent_normals, _ = face_frames(V, before[parent[rows]])
+    return np.unique(parent[rows][np.einsum("ij,ij->i", normals, parent_normals) <= 0]), parent_normals
+
+
 def _folded(V, faces, conn) -> np.ndarray:
     """(edges,) bool: edges of two faces that run them the same way and face the same way
     (one lies on the other; two faces wound against each other face opposite ways, and
@@ -344,9 +355,7 @@ def _undo_bad_splits(V, before, faces, parent, rows, weights, n):
     (the next round's, and core.repair's, so it is built once)."""
     split = np.zeros(len(faces), dtype=bool)
     split[rows] = True
-    normals, _ = face_frames(V, faces[rows])
-    parent_normals, _ = face_frames(V, before[parent[rows]])
-    bad = np.unique(parent[rows][np.einsum("ij,ij->i", normals, parent_normals) <= 0])
+    bad = _turned_splits(V, before, faces, parent, rows)[0]
     for _ in range(ROUNDS + 1):
         if len(bad):
             undo = np.isin(parent, bad)
